@@ -1,0 +1,12 @@
+"""The ATP model: step functions (nodes), their data types, and the Ops backends.
+
+``NODES`` is the one place where nodes are registered; tests run every node in it
+under every backend.
+"""
+
+from atcs.model.node import Node
+from atcs.model.supervision import SUPERVISION
+
+NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION,)}
+
+__all__ = ["NODES", "Node"]

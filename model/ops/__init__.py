@@ -1,0 +1,87 @@
+"""The three interpretations of a step function (DESIGN.md, "The step-function pattern").
+
+Every step function in :mod:`atcs.model` takes an ``Ops`` as its first argument and
+uses it for constants, branching and extrema; arithmetic and ordering comparisons
+use plain operators. Running the same function with a different ``Ops`` gives the
+simulator (float), the bit-exact replay (exact) or the proof obligation (symbolic).
+
+``N`` and ``B`` are the type variables for the number and boolean types of a
+backend. State, input, output and parameter dataclasses annotate their fields with
+them; the proof engine reads the annotations to create z3 variables of the right
+sort.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+from typing import Protocol, TypeVar, Union
+
+N = TypeVar("N")
+B = TypeVar("B")
+
+Constant = Union[int, Fraction, str]
+"""What ``Ops.const`` accepts: an int, a Fraction, or a decimal string such as ``"0.1"``.
+
+Python floats are refused: ``0.1`` is not one tenth, and a proof about a model
+with binary-rounded constants would be about a different model."""
+
+
+class Ops(Protocol[N, B]):
+    """The operations a step function may use besides ``+ - * /`` and ``< <= > >=``."""
+
+    name: str
+
+    def const(self, value: Constant) -> N:
+        """A numeric constant."""
+
+    def const_bool(self, value: bool) -> B:
+        """A boolean constant."""
+
+    def ite(self, cond: B, then: N | B, else_: N | B) -> N | B:
+        """``then`` where ``cond`` holds, else ``else_`` (both are evaluated)."""
+
+    def min(self, first: N, *rest: N) -> N:
+        """The smallest argument."""
+
+    def max(self, first: N, *rest: N) -> N:
+        """The largest argument."""
+
+    def and_(self, *args: B) -> B:
+        """Conjunction (true for no arguments)."""
+
+    def or_(self, *args: B) -> B:
+        """Disjunction (false for no arguments)."""
+
+    def not_(self, arg: B) -> B:
+        """Negation."""
+
+    def implies(self, antecedent: B, consequent: B) -> B:
+        """``not antecedent or consequent``."""
+
+    def eq(self, left: N | B, right: N | B) -> B:
+        """Equality; the only way to compare for equality in a step function."""
+
+
+def to_fraction(value: Constant, *, what: str = "constant") -> Fraction:
+    """Convert an ``Ops.const`` argument to a Fraction, refusing floats and bools."""
+    if isinstance(value, bool) or not isinstance(value, (int, Fraction, str)):
+        raise TypeError(
+            f"{what} must be an int, a Fraction or a decimal string, "
+            f"not {type(value).__name__} {value!r}; write o.const(Fraction('0.1')) or o.const('0.1')"
+        )
+    try:
+        return Fraction(value)
+    except (ValueError, ZeroDivisionError) as exc:
+        raise ValueError(f"{what} {value!r} is not a number: {exc}") from None
+
+
+def backends() -> dict[str, Ops]:
+    """The registered backends by name: ``float``, ``exact`` and ``symbolic``."""
+    from atcs.model.ops.exact import EXACT
+    from atcs.model.ops.floating import FLOAT
+    from atcs.model.ops.symbolic import SYMBOLIC
+
+    return {ops.name: ops for ops in (FLOAT, EXACT, SYMBOLIC)}
+
+
+__all__ = ["B", "Constant", "N", "Ops", "backends", "to_fraction"]

@@ -1,0 +1,53 @@
+"""Exact backend: numbers are ``fractions.Fraction``, booleans are ``bool``.
+
+Used to replay counterexamples and to compute test-vector outputs bit-exactly.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from atcs.model.ops import Constant, to_fraction
+
+
+class ExactOps:
+    name = "exact"
+
+    def const(self, value: Constant) -> Fraction:
+        return to_fraction(value)
+
+    def const_bool(self, value: bool) -> bool:
+        return bool(value)
+
+    def ite(self, cond, then, else_):
+        return then if _truth(cond) else else_
+
+    def min(self, first, *rest):
+        return min(first, *rest)
+
+    def max(self, first, *rest):
+        return max(first, *rest)
+
+    def and_(self, *args) -> bool:
+        return all(_truth(a) for a in args)
+
+    def or_(self, *args) -> bool:
+        return any(_truth(a) for a in args)
+
+    def not_(self, arg) -> bool:
+        return not _truth(arg)
+
+    def implies(self, antecedent, consequent) -> bool:
+        return (not _truth(antecedent)) or _truth(consequent)
+
+    def eq(self, left, right) -> bool:
+        return left == right
+
+
+def _truth(value) -> bool:
+    if not isinstance(value, bool):
+        raise TypeError(f"exact backend expected a bool, got {type(value).__name__} {value!r}")
+    return value
+
+
+EXACT = ExactOps()

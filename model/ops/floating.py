@@ -1,0 +1,68 @@
+"""Float backend: IEEE doubles, as scalars or numpy arrays (one element per train).
+
+A step function called with numpy arrays steps a whole batch in one call; scalars
+and arrays mix by broadcasting. Used by the simulator and the benchmarks.
+"""
+
+from __future__ import annotations
+
+from functools import reduce
+
+import numpy as np
+
+from atcs.model.ops import Constant, to_fraction
+
+
+def _any_array(*values) -> bool:
+    return any(isinstance(v, np.ndarray) for v in values)
+
+
+class FloatOps:
+    name = "float"
+
+    def const(self, value: Constant) -> float:
+        return float(to_fraction(value))
+
+    def const_bool(self, value: bool) -> bool:
+        return bool(value)
+
+    def ite(self, cond, then, else_):
+        if _any_array(cond, then, else_):
+            return np.where(cond, then, else_)
+        return then if cond else else_
+
+    def min(self, first, *rest):
+        if _any_array(first, *rest):
+            return reduce(np.minimum, rest, np.asarray(first))
+        return min(first, *rest)
+
+    def max(self, first, *rest):
+        if _any_array(first, *rest):
+            return reduce(np.maximum, rest, np.asarray(first))
+        return max(first, *rest)
+
+    def and_(self, *args):
+        if _any_array(*args):
+            return reduce(np.logical_and, args, np.True_)
+        return all(args)
+
+    def or_(self, *args):
+        if _any_array(*args):
+            return reduce(np.logical_or, args, np.False_)
+        return any(args)
+
+    def not_(self, arg):
+        if _any_array(arg):
+            return np.logical_not(arg)
+        return not arg
+
+    def implies(self, antecedent, consequent):
+        return self.or_(self.not_(antecedent), consequent)
+
+    def eq(self, left, right):
+        if _any_array(left, right):
+            return np.equal(left, right)
+        return bool(left == right)
+
+
+FLOAT = FloatOps()

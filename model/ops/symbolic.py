@@ -1,0 +1,198 @@
+"""Symbolic backend: z3 real and boolean terms, wrapped so that they cannot be misused.
+
+z3 raises when most symbolic booleans are truth-tested, but not for ``==``:
+``bool(x == y)`` on two z3 terms is *structural* equality and silently takes a
+branch. The wrappers here refuse ``bool()``, ``==`` and ``!=`` outright (as
+Amaranth's values refuse ``bool()``), and refuse Python floats as constants, so a
+step function that would behave differently under the proof than under the
+simulator fails loudly instead.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import z3
+
+from atcs.model.ops import Constant, to_fraction
+
+
+class SymbolicValueError(TypeError):
+    """A symbolic value was used where Python needs a concrete one (``if``, ``==``, ``and`` ...)."""
+
+
+_BOOL_HINT = (
+    "a symbolic value has no Python truth value: a step function must branch with "
+    "o.ite(...) and combine conditions with o.and_/o.or_/o.not_, never with if/and/or/not"
+)
+_EQ_HINT = "symbolic values cannot be compared with == or !=: use o.eq(a, b) or o.not_(o.eq(a, b))"
+
+
+def _term(value) -> z3.ArithRef:
+    if isinstance(value, Real):
+        return value.term
+    if isinstance(value, bool) or not isinstance(value, (int, Fraction)):
+        raise SymbolicValueError(
+            f"cannot mix {type(value).__name__} {value!r} into a symbolic expression; "
+            "use o.const(...) with an int, a Fraction or a decimal string"
+        )
+    value = Fraction(value)
+    return z3.Q(value.numerator, value.denominator)
+
+
+class Real:
+    """A z3 real term. Arithmetic and ordering comparisons build new terms."""
+
+    __slots__ = ("term",)
+
+    def __init__(self, term: z3.ArithRef):
+        self.term = term
+
+    def __add__(self, other):
+        return Real(self.term + _term(other))
+
+    def __radd__(self, other):
+        return Real(_term(other) + self.term)
+
+    def __sub__(self, other):
+        return Real(self.term - _term(other))
+
+    def __rsub__(self, other):
+        return Real(_term(other) - self.term)
+
+    def __mul__(self, other):
+        return Real(self.term * _term(other))
+
+    def __rmul__(self, other):
+        return Real(_term(other) * self.term)
+
+    def __truediv__(self, other):
+        return Real(self.term / _term(other))
+
+    def __rtruediv__(self, other):
+        return Real(_term(other) / self.term)
+
+    def __neg__(self):
+        return Real(-self.term)
+
+    def __lt__(self, other):
+        return Bool(self.term < _term(other))
+
+    def __le__(self, other):
+        return Bool(self.term <= _term(other))
+
+    def __gt__(self, other):
+        return Bool(self.term > _term(other))
+
+    def __ge__(self, other):
+        return Bool(self.term >= _term(other))
+
+    def __eq__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    def __ne__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    __hash__ = None
+
+    def __bool__(self):
+        raise SymbolicValueError(_BOOL_HINT)
+
+    def __repr__(self):
+        return f"Real({self.term})"
+
+
+class Bool:
+    """A z3 boolean term. It has no Python truth value and no ``==``."""
+
+    __slots__ = ("term",)
+
+    def __init__(self, term: z3.BoolRef):
+        self.term = term
+
+    def __eq__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    def __ne__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    __hash__ = None
+
+    def __bool__(self):
+        raise SymbolicValueError(_BOOL_HINT)
+
+    def __repr__(self):
+        return f"Bool({self.term})"
+
+
+def _bool_term(value) -> z3.BoolRef:
+    if isinstance(value, Bool):
+        return value.term
+    if isinstance(value, bool):
+        return z3.BoolVal(value)
+    raise SymbolicValueError(f"expected a symbolic or Python bool, got {type(value).__name__} {value!r}")
+
+
+def _any_term(value):
+    if isinstance(value, (Bool, bool)):
+        return _bool_term(value)
+    return _term(value)
+
+
+def wrap(term: z3.ExprRef) -> Real | Bool:
+    """Wrap a raw z3 term of sort Real or Bool."""
+    if z3.is_bool(term):
+        return Bool(term)
+    if z3.is_real(term):
+        return Real(term)
+    raise SymbolicValueError(f"unsupported z3 sort {term.sort()} of {term}")
+
+
+def unwrap(value) -> z3.ExprRef:
+    """The z3 term of a wrapped value (or of a Python bool, int or Fraction)."""
+    return _any_term(value)
+
+
+class SymbolicOps:
+    name = "symbolic"
+
+    def const(self, value: Constant) -> Real:
+        return Real(_term(to_fraction(value)))
+
+    def const_bool(self, value: bool) -> Bool:
+        return Bool(z3.BoolVal(bool(value)))
+
+    def ite(self, cond, then, else_):
+        return wrap(z3.If(_bool_term(cond), _any_term(then), _any_term(else_)))
+
+    def min(self, first, *rest):
+        result = _term(first)
+        for other in rest:
+            o = _term(other)
+            result = z3.If(o < result, o, result)
+        return Real(result)
+
+    def max(self, first, *rest):
+        result = _term(first)
+        for other in rest:
+            o = _term(other)
+            result = z3.If(o > result, o, result)
+        return Real(result)
+
+    def and_(self, *args) -> Bool:
+        return Bool(z3.And(*[_bool_term(a) for a in args]) if args else z3.BoolVal(True))
+
+    def or_(self, *args) -> Bool:
+        return Bool(z3.Or(*[_bool_term(a) for a in args]) if args else z3.BoolVal(False))
+
+    def not_(self, arg) -> Bool:
+        return Bool(z3.Not(_bool_term(arg)))
+
+    def implies(self, antecedent, consequent) -> Bool:
+        return Bool(z3.Implies(_bool_term(antecedent), _bool_term(consequent)))
+
+    def eq(self, left, right) -> Bool:
+        return Bool(_any_term(left) == _any_term(right))
+
+
+SYMBOLIC = SymbolicOps()

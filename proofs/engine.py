@@ -1,0 +1,136 @@
+"""Prove one property: k-induction interleaved with BMC, lemmas first, one deadline.
+
+For k = 0, 1, ..., max_k: the inductive step at depth k (proves the property if
+BMC has cleared depths 0 .. k-1), then BMC at depth k (finds the shortest
+counterexample). A counterexample is replayed exactly before it is reported.
+
+Verdicts: ``proved`` (engine ``k-induction``, with k), ``falsified`` (engine
+``bmc``, with the depth and the trace), ``unknown`` (timeout, solver gave up, or
+no k <= max_k closes the induction) and ``error`` (the model or the property
+could not be built, or a counterexample did not replay: never a pass).
+"""
+
+from __future__ import annotations
+
+import time
+import traceback
+from dataclasses import dataclass
+
+from atcs.properties.property import Property
+from atcs.proofs.bmc import Bmc, Check
+from atcs.proofs.induction import Induction
+from atcs.proofs.system import Unrolling
+from atcs.proofs.trace import Replay, ReplayError, Trace, extract, reproduce
+
+STATUSES = ("proved", "falsified", "unknown", "error")
+
+
+@dataclass
+class Result:
+    name: str
+    requirement: str
+    status: str
+    engine: str
+    k: int | None
+    seconds: float
+    message: str = ""
+    trace: Trace | None = None
+    replay: Replay | None = None
+
+
+class _Timeout(Exception):
+    pass
+
+
+class _Deadline:
+    def __init__(self, seconds: float):
+        self.end = time.monotonic() + seconds
+
+    def remaining(self) -> float:
+        left = self.end - time.monotonic()
+        if left <= 0:
+            raise _Timeout
+        return left
+
+
+def check_lemma(prop: Property, lemma: Property) -> None:
+    """A lemma may be assumed only if it is about the same node under no more assumptions."""
+    if lemma.node is not prop.node:
+        raise ValueError(f"lemma {lemma.name} is about node {lemma.node.name!r}, not {prop.node.name!r}")
+    extra = [a.name for a in lemma.assumptions if a not in prop.assumptions]
+    if extra:
+        raise ValueError(f"lemma {lemma.name} assumes {', '.join(extra)}, which {prop.name} does not assume")
+    for key, value in lemma.fixed_params.items():
+        if prop.fixed_params.get(key, object()) != value:
+            raise ValueError(f"lemma {lemma.name} fixes parameter {key}={value!r}; {prop.name} must fix it too")
+
+
+def prove(
+    prop: Property,
+    *,
+    timeout_s: float = 60.0,
+    lemmas: dict[str, Property] | None = None,
+    max_k: int | None = None,
+) -> Result:
+    """Prove or falsify ``prop`` within ``timeout_s`` seconds (lemmas' proofs included).
+
+    ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry).
+    """
+    if timeout_s <= 0:
+        raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
+    start = time.monotonic()
+    deadline = _Deadline(timeout_s)
+    max_k = prop.max_k if max_k is None else max_k
+
+    def result(status, engine="", k=None, message="", trace=None, replay=None):
+        return Result(prop.name, prop.requirement, status, engine, k, time.monotonic() - start, message, trace, replay)
+
+    try:
+        assumed = []
+        for name in prop.lemmas:
+            if lemmas is None or name not in lemmas:
+                return result("error", message=f"lemma {name!r} is not a known property")
+            lemma = lemmas[name]
+            check_lemma(prop, lemma)
+            sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas)
+            if sub.status != "proved":
+                status = "error" if sub.status in ("falsified", "error") else "unknown"
+                return result(status, message=f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))
+            assumed.append(lemma)
+        u = Unrolling(prop, tuple(assumed))
+        bmc, induction = Bmc(u), Induction(u)
+        for k in range(max_k + 1):
+            step = induction.check(k, deadline.remaining())
+            if step.result == "unsat":
+                return result("proved", "k-induction", k)
+            if step.result == "unknown":
+                return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
+            base = bmc.check(k, deadline.remaining())
+            if base.result == "sat":
+                trace = extract(u, base.model, k)
+                try:
+                    replayed = reproduce(prop, trace)
+                except ReplayError as exc:
+                    return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace)
+                return result("falsified", "bmc", k, f"violated at step {k}", trace, replayed)
+            if base.result == "unknown":
+                return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+        return result(
+            "unknown",
+            "k-induction",
+            max_k,
+            f"not {max_k}-inductive and no counterexample up to depth {max_k}; "
+            "an auxiliary lemma may make it inductive",
+        )
+    except _Timeout:
+        return result("unknown", message=f"timeout after {timeout_s:g} s")
+    except Exception as exc:  # the model or property could not be built: report, never pass
+        where = traceback.extract_tb(exc.__traceback__)[-1]
+        return result("error", message=f"{type(exc).__name__}: {exc} ({where.filename}:{where.lineno})")
+
+
+def _unknown(check: Check, what: str, k: int) -> str:
+    reason = check.reason or "unknown"
+    if reason in ("timeout", "canceled"):
+        return f"timeout in the {what} at depth {k}"
+    return f"solver returned unknown in the {what} at depth {k}: {reason}"

@@ -1,0 +1,121 @@
+"""The transition system of a property's node, unrolled step by step.
+
+``init`` and ``trans`` are not written by hand: they come from running the node's
+``init`` and ``step`` functions under the symbolic Ops. Frame ``k`` holds
+
+- the state variables ``field@k`` and input variables ``field@k``,
+- the outputs of the step (terms, not variables),
+- ``trans[k]``: the next-state variables ``field@(k+1)`` equal the step's result,
+- ``assumed[k]``, ``prop[k]`` and ``lemmas[k]``: the property's assumptions,
+  predicate and auxiliary lemmas at step ``k``.
+
+Parameters are one set of constants for the whole run (``name``, no ``@``):
+symbolic unless the property fixes them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from fractions import Fraction
+
+import z3
+
+from atcs.model.node import Node
+from atcs.model.ops import to_fraction
+from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, unwrap
+from atcs.properties.property import Property
+
+
+def variables(cls: type, node: Node, role: str, suffix: str | None):
+    """An instance of ``cls`` whose fields are fresh z3 constants ``field@suffix``."""
+    values = {}
+    for name, sort in node.sorts(role).items():
+        label = name if suffix is None else f"{name}@{suffix}"
+        values[name] = Real(z3.Real(label)) if sort == "real" else Bool(z3.Bool(label))
+    return cls(**values)
+
+
+def _fixed(node: Node, name: str, value):
+    sort = node.sorts("params")[name]
+    if sort == "bool":
+        if not isinstance(value, bool):
+            raise TypeError(f"fixed parameter {name!r} of node {node.name!r} is boolean, got {value!r}")
+        return Bool(z3.BoolVal(value))
+    f = to_fraction(value, what=f"fixed parameter {name!r}")
+    return Real(z3.Q(f.numerator, f.denominator))
+
+
+@dataclass
+class Frame:
+    state: object
+    inputs: object
+    outputs: object
+    next_state: object
+    trans: z3.BoolRef
+    assumed: z3.BoolRef
+    prop: z3.BoolRef
+    lemmas: z3.BoolRef
+
+
+class Unrolling:
+    """Frames 0, 1, 2, ... of a property's node, created on demand."""
+
+    def __init__(self, prop: Property, lemmas: tuple[Property, ...] = ()):
+        self.prop = prop
+        self.node = prop.node
+        self.lemmas = lemmas
+        fixed = dict(prop.fixed_params)
+        values = {}
+        for name, sort in self.node.sorts("params").items():
+            if name in fixed:
+                values[name] = _fixed(self.node, name, fixed[name])
+            else:
+                values[name] = Real(z3.Real(name)) if sort == "real" else Bool(z3.Bool(name))
+        self.params = self.node.params(**values)
+        self.frames: list[Frame] = []
+        self._states = [variables(self.node.state, self.node, "state", "0")]
+
+    def state(self, k: int):
+        """The state variables ``field@k``."""
+        self.frame(max(k - 1, 0))
+        return self._states[k]
+
+    def init(self) -> z3.BoolRef:
+        return unwrap(self.node.init(SYMBOLIC, self.params, self.state(0)))
+
+    def frame(self, k: int) -> Frame:
+        while len(self.frames) <= k:
+            self._add_frame()
+        return self.frames[k]
+
+    def _add_frame(self):
+        o, p, node = SYMBOLIC, self.params, self.node
+        k = len(self.frames)
+        s = self._states[k]
+        i = variables(node.inputs, node, "inputs", str(k))
+        computed, out = node.step(o, p, s, i)
+        nxt = variables(node.state, node, "state", str(k + 1))
+        self._states.append(nxt)
+        trans = z3.And(*[unwrap(o.eq(getattr(nxt, n), getattr(computed, n))) for n in node.sorts("state")])
+        assumed = unwrap(self.prop.assumed(o, p, s, i))
+        holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
+        lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
+        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, lemmas))
+
+    def distinct(self, a: int, b: int) -> z3.BoolRef:
+        """States ``a`` and ``b`` differ in at least one field."""
+        sa, sb = self.state(a), self.state(b)
+        diffs = [z3.Not(unwrap(SYMBOLIC.eq(getattr(sa, n), getattr(sb, n)))) for n in self.node.sorts("state")]
+        return z3.Or(*diffs) if diffs else z3.BoolVal(False)
+
+
+def model_value(model: z3.ModelRef, value) -> Fraction | bool:
+    """The exact value of a wrapped term in a z3 model."""
+    term = model.eval(unwrap(value), model_completion=True)
+    if z3.is_true(term):
+        return True
+    if z3.is_false(term):
+        return False
+    if z3.is_rational_value(term):
+        return term.as_fraction()
+    raise ValueError(f"the solver's value {term} for {unwrap(value)} is not rational and cannot be replayed exactly")

@@ -1,0 +1,255 @@
+"""Counterexample traces: extracted from a solver model, replayed exactly, written as JSON and CSV.
+
+A trace is the parameters, the initial state and the inputs of each step, all as
+exact rationals (or booleans). Replaying it runs the node's own step function on
+the exact backend; the replay must reproduce every recorded state and violate
+the property at the recorded step and not before, otherwise the engine, not the
+model, is wrong (:class:`ReplayError`).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+import z3
+
+from atcs.model.node import as_dict
+from atcs.model.ops.exact import EXACT
+from atcs.properties.property import Property
+from atcs.proofs.system import Unrolling, model_value
+
+FORMAT = "atcs-trace/1"
+
+Value = Fraction | bool
+
+
+class ReplayError(Exception):
+    """The exact replay does not reproduce the trace: an internal error of the engine."""
+
+
+class TraceFileError(ValueError):
+    """A trace file is malformed; the message names the file, the field and the value."""
+
+
+@dataclass
+class Trace:
+    property: str
+    node: str
+    violation_step: int
+    params: dict[str, Value]
+    states: list[dict[str, Value]]
+    """States 0 .. n (the state after the last step included)."""
+    inputs: list[dict[str, Value]]
+    """Inputs of steps 0 .. n-1; the violation is at step n-1."""
+
+
+@dataclass
+class Replay:
+    """What the exact replay computed, step by step."""
+
+    trace: Trace
+    states: list[dict[str, Value]] = field(default_factory=list)
+    outputs: list[dict[str, Value]] = field(default_factory=list)
+    holds: list[bool] = field(default_factory=list)
+
+    @property
+    def first_violation(self) -> int | None:
+        return next((k for k, ok in enumerate(self.holds) if not ok), None)
+
+
+def extract(u: Unrolling, model: z3.ModelRef, k: int) -> Trace:
+    """The trace of a BMC model with the violation at step ``k``."""
+    node = u.node
+    return Trace(
+        property=u.prop.name,
+        node=node.name,
+        violation_step=k,
+        params={n: model_value(model, v) for n, v in as_dict(u.params).items()},
+        states=[{n: model_value(model, v) for n, v in as_dict(u.state(j)).items()} for j in range(k + 2)],
+        inputs=[{n: model_value(model, v) for n, v in as_dict(u.frame(j).inputs).items()} for j in range(k + 1)],
+    )
+
+
+def replay(prop: Property, trace: Trace, *, ops=EXACT) -> Replay:
+    """Run ``trace`` through the property's node and predicate; check init, assumptions and states."""
+    node = prop.node
+    if trace.node != node.name:
+        raise ReplayError(f"trace is of node {trace.node!r}, property {prop.name} is about {node.name!r}")
+    p = node.params(**trace.params)
+    s = node.state(**trace.states[0])
+    result = Replay(trace, states=[dict(trace.states[0])])
+    if not node.init(ops, p, s):
+        raise ReplayError(f"{prop.name}: the trace's initial state {trace.states[0]} is not an initial state")
+    for k, inputs in enumerate(trace.inputs):
+        i = node.inputs(**inputs)
+        if not prop.assumed(ops, p, s, i):
+            failed = [a.name for a in prop.assumptions if not a.holds(ops, p, s, i)]
+            raise ReplayError(f"{prop.name}: step {k} violates assumption(s) {', '.join(failed)}")
+        nxt, out = node.step(ops, p, s, i)
+        result.states.append(as_dict(nxt))
+        result.outputs.append(as_dict(out))
+        result.holds.append(bool(prop.holds(ops, p, s, i, out, nxt)))
+        if k + 1 < len(trace.states) and as_dict(nxt) != trace.states[k + 1]:
+            raise ReplayError(
+                f"{prop.name}: replayed state after step {k} is {as_dict(nxt)}, the solver's is {trace.states[k + 1]}"
+            )
+        s = nxt
+    return result
+
+
+def reproduce(prop: Property, trace: Trace) -> Replay:
+    """Replay exactly and require the violation at exactly the recorded step."""
+    result = replay(prop, trace)
+    if result.first_violation != trace.violation_step:
+        raise ReplayError(
+            f"{prop.name}: the trace violates the property at step {trace.violation_step} according to the "
+            f"solver, but the exact replay finds the first violation at {result.first_violation}"
+        )
+    return result
+
+
+# --- files -------------------------------------------------------------------------------
+
+
+def format_value(value: Value) -> str | bool:
+    """Exact text for a value: a decimal when it has a finite one, else ``p/q``."""
+    if isinstance(value, bool):
+        return value
+    value = Fraction(value)
+    d = value.denominator
+    twos = fives = 0
+    while d % 2 == 0:
+        d //= 2
+        twos += 1
+    while d % 5 == 0:
+        d //= 5
+        fives += 1
+    if d != 1:
+        return f"{value.numerator}/{value.denominator}"
+    places = max(twos, fives)
+    text = f"{abs(value.numerator) * 10**places // value.denominator:0{places + 1}d}"
+    if places:
+        text = f"{text[:-places]}.{text[-places:]}".rstrip("0").rstrip(".")
+    return ("-" if value < 0 else "") + text
+
+
+def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = "") -> dict[str, Any]:
+    steps = []
+    for k, inputs in enumerate(trace.inputs):
+        step: dict[str, Any] = {
+            "step": k,
+            "state": {n: format_value(v) for n, v in trace.states[k].items()},
+            "inputs": {n: format_value(v) for n, v in inputs.items()},
+        }
+        if replayed is not None:
+            step["outputs"] = {n: format_value(v) for n, v in replayed.outputs[k].items()}
+            step["holds"] = replayed.holds[k]
+        steps.append(step)
+    return {
+        "format": FORMAT,
+        "property": trace.property,
+        "requirement": requirement,
+        "node": trace.node,
+        "violation_step": trace.violation_step,
+        "params": {n: format_value(v) for n, v in trace.params.items()},
+        "steps": steps,
+        "final_state": {n: format_value(v) for n, v in trace.states[-1].items()},
+    }
+
+
+def to_csv(trace: Trace, replayed: Replay) -> str:
+    """One row per step, one column per parameter, state, input and output variable."""
+    out = io.StringIO()
+    first_outputs = replayed.outputs[0] if replayed.outputs else {}
+    columns = (
+        ["step"]
+        + [f"param.{n}" for n in trace.params]
+        + [f"state.{n}" for n in trace.states[0]]
+        + [f"input.{n}" for n in trace.inputs[0]]
+        + [f"output.{n}" for n in first_outputs]
+        + ["holds", "violation"]
+    )
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(columns)
+    for k, inputs in enumerate(trace.inputs):
+        row = [k]
+        row += [format_value(v) for v in trace.params.values()]
+        row += [format_value(v) for v in trace.states[k].values()]
+        row += [format_value(v) for v in inputs.values()]
+        row += [format_value(v) for v in replayed.outputs[k].values()]
+        row += [replayed.holds[k], k == trace.violation_step]
+        writer.writerow(row)
+    return out.getvalue()
+
+
+def _parse_value(path: str, where: str, raw: Any, sort: str) -> Value:
+    if sort == "bool":
+        if not isinstance(raw, bool):
+            raise TraceFileError(f"{path}: {where} must be true or false, got {raw!r}")
+        return raw
+    if isinstance(raw, bool) or not isinstance(raw, (str, int)):
+        raise TraceFileError(f"{path}: {where} must be an exact number as a string such as \"1/3\", got {raw!r}")
+    try:
+        return Fraction(raw)
+    except (ValueError, ZeroDivisionError):
+        raise TraceFileError(f"{path}: {where} is not a number: {raw!r}") from None
+
+
+def _parse_record(path: str, where: str, raw: Any, sorts: dict[str, str]) -> dict[str, Value]:
+    if not isinstance(raw, dict):
+        raise TraceFileError(f"{path}: {where} must be an object, got {raw!r}")
+    missing = [n for n in sorts if n not in raw]
+    unknown = [n for n in raw if n not in sorts]
+    if missing or unknown:
+        raise TraceFileError(
+            f"{path}: {where} has "
+            + "; ".join(
+                x for x in (missing and f"missing fields {missing}", unknown and f"unknown fields {unknown}") if x
+            )
+        )
+    return {n: _parse_value(path, f"{where}.{n}", raw[n], sort) for n, sort in sorts.items()}
+
+
+def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Property, Trace]:
+    """Read a trace file, resolving its property in ``properties``; errors name file, field and value."""
+    path = str(path)
+    try:
+        with open(path, encoding="utf-8") as fh:
+            doc = json.load(fh)
+    except OSError as exc:
+        raise TraceFileError(f"{path}: cannot read: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise TraceFileError(f"{path}: not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    if not isinstance(doc, dict):
+        raise TraceFileError(f"{path}: the top level must be an object, got {type(doc).__name__}")
+    if doc.get("format") != FORMAT:
+        raise TraceFileError(f"{path}: field 'format' must be {FORMAT!r}, got {doc.get('format')!r}")
+    name = doc.get("property")
+    if name not in properties:
+        raise TraceFileError(f"{path}: field 'property' names no registered property: {name!r}")
+    prop = properties[name]
+    node = prop.node
+    steps = doc.get("steps")
+    if not isinstance(steps, list) or not steps:
+        raise TraceFileError(f"{path}: field 'steps' must be a non-empty list, got {steps!r}")
+    k = doc.get("violation_step")
+    if isinstance(k, bool) or not isinstance(k, int) or not 0 <= k < len(steps):
+        raise TraceFileError(f"{path}: field 'violation_step' must be a step index below {len(steps)}, got {k!r}")
+    if doc.get("node") != node.name:
+        raise TraceFileError(f"{path}: field 'node' must be {node.name!r} for {name}, got {doc.get('node')!r}")
+    params = _parse_record(path, "params", doc.get("params"), node.sorts("params"))
+    states, inputs = [], []
+    for j, step in enumerate(steps):
+        if not isinstance(step, dict):
+            raise TraceFileError(f"{path}: steps[{j}] must be an object, got {step!r}")
+        states.append(_parse_record(path, f"steps[{j}].state", step.get("state"), node.sorts("state")))
+        inputs.append(_parse_record(path, f"steps[{j}].inputs", step.get("inputs"), node.sorts("inputs")))
+    states.append(_parse_record(path, "final_state", doc.get("final_state"), node.sorts("state")))
+    trace = Trace(name, node.name, k, params, states, inputs)
+    return prop, trace

@@ -1,0 +1,1 @@
+"""Simulator (later issues): runs the same step functions on the float backend."""
