@@ -51,16 +51,22 @@ class Trace:
 
 @dataclass
 class Replay:
-    """What the exact replay computed, step by step."""
+    """What the exact replay computed, step by step, and where it disagrees with the trace."""
 
     trace: Trace
     states: list[dict[str, Value]] = field(default_factory=list)
     outputs: list[dict[str, Value]] = field(default_factory=list)
     holds: list[bool] = field(default_factory=list)
+    problems: list[str] = field(default_factory=list)
+    """Why the trace is not a run of this model: initial state, assumptions, recorded states."""
 
     @property
     def first_violation(self) -> int | None:
         return next((k for k, ok in enumerate(self.holds) if not ok), None)
+
+    @property
+    def reproduced(self) -> bool:
+        return not self.problems and self.first_violation == self.trace.violation_step
 
 
 def extract(u: Unrolling, model: z3.ModelRef, k: int) -> Trace:
@@ -77,7 +83,11 @@ def extract(u: Unrolling, model: z3.ModelRef, k: int) -> Trace:
 
 
 def replay(prop: Property, trace: Trace, *, ops=EXACT) -> Replay:
-    """Run ``trace`` through the property's node and predicate; check init, assumptions and states."""
+    """Run the trace's inputs through the property's node and predicate from its initial state.
+
+    Every difference from the trace (initial state, assumptions, recorded states)
+    is collected in ``problems``; the run goes on with the model's own states.
+    """
     node = prop.node
     if trace.node != node.name:
         raise ReplayError(f"trace is of node {trace.node!r}, property {prop.name} is about {node.name!r}")
@@ -85,33 +95,39 @@ def replay(prop: Property, trace: Trace, *, ops=EXACT) -> Replay:
     s = node.state(**trace.states[0])
     result = Replay(trace, states=[dict(trace.states[0])])
     if not node.init(ops, p, s):
-        raise ReplayError(f"{prop.name}: the trace's initial state {trace.states[0]} is not an initial state")
+        result.problems.append(f"the initial state {_show(trace.states[0])} is not an initial state of the model")
     for k, inputs in enumerate(trace.inputs):
         i = node.inputs(**inputs)
-        if not prop.assumed(ops, p, s, i):
-            failed = [a.name for a in prop.assumptions if not a.holds(ops, p, s, i)]
-            raise ReplayError(f"{prop.name}: step {k} violates assumption(s) {', '.join(failed)}")
+        failed = [a.name for a in prop.assumptions if not a.holds(ops, p, s, i)]
+        if failed:
+            result.problems.append(f"step {k} violates the assumption(s) {', '.join(failed)}")
         nxt, out = node.step(ops, p, s, i)
         result.states.append(as_dict(nxt))
         result.outputs.append(as_dict(out))
         result.holds.append(bool(prop.holds(ops, p, s, i, out, nxt)))
-        if k + 1 < len(trace.states) and as_dict(nxt) != trace.states[k + 1]:
-            raise ReplayError(
-                f"{prop.name}: replayed state after step {k} is {as_dict(nxt)}, the solver's is {trace.states[k + 1]}"
+        if as_dict(nxt) != trace.states[k + 1]:
+            result.problems.append(
+                f"after step {k} the model's state is {_show(as_dict(nxt))}, the trace's {_show(trace.states[k + 1])}"
             )
         s = nxt
     return result
 
 
 def reproduce(prop: Property, trace: Trace) -> Replay:
-    """Replay exactly and require the violation at exactly the recorded step."""
+    """Replay exactly; raise :class:`ReplayError` unless the violation is reproduced at the recorded step."""
     result = replay(prop, trace)
+    if result.problems:
+        raise ReplayError(f"{prop.name}: " + "; ".join(result.problems))
     if result.first_violation != trace.violation_step:
         raise ReplayError(
-            f"{prop.name}: the trace violates the property at step {trace.violation_step} according to the "
-            f"solver, but the exact replay finds the first violation at {result.first_violation}"
+            f"{prop.name}: the solver's trace violates the property at step {trace.violation_step}, "
+            f"the exact replay first at {result.first_violation}"
         )
     return result
+
+
+def _show(values: dict[str, Value]) -> str:
+    return "{" + ", ".join(f"{n}={format_value(v)}" for n, v in values.items()) + "}"
 
 
 # --- files -------------------------------------------------------------------------------

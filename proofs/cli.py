@@ -1,0 +1,212 @@
+"""The ``atcs`` command line: ``prove``, ``replay``, ``bench``.
+
+Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
+2 usage or input error, 3 some property unknown or in error and none falsified
+(an ``error`` verdict is never a pass). ``replay``: 0 the violation is
+reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
+``bench``: 0, or 2 for an unknown benchmark name.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.table import Table
+
+EXIT_OK, EXIT_FALSIFIED, EXIT_USAGE, EXIT_UNKNOWN = 0, 1, 2, 3
+
+_STYLE = {"proved": "green", "falsified": "bold red", "unknown": "yellow", "error": "bold magenta"}
+
+
+class UsageError(Exception):
+    """Bad command-line input: printed as one line, exit code 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, not argparse's usage block
+        command = self.prog.removeprefix("atcs").strip()
+        raise UsageError(f"{command}: {message}" if command else message)
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds, got {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text!r}")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return value
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="atcs", description="Prove, replay and benchmark the atcs ATP model.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("prove", help="prove the registered safety properties")
+    p.add_argument("--only", metavar="PATTERN", help="glob over property names, e.g. 'supervision.*'")
+    p.add_argument("--json", metavar="FILE", help="write the JSON report here")
+    p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
+    p.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=120.0,
+                   help="per-property time limit, lemmas included; past it the verdict is unknown (default 120)")
+    p.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
+    p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
+                   help="where counterexamples are written as JSON and CSV (default ./counterexamples)")
+
+    r = sub.add_parser("replay", help="replay a counterexample exactly and show the violating step")
+    r.add_argument("trace", metavar="CEX.json")
+
+    b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
+    b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    out, err = Console(), Console(stderr=True)
+    if not out.is_terminal:  # logs and pipes: do not truncate property names to 80 columns
+        out = Console(width=160)
+    try:
+        args = build_parser().parse_args(argv)
+        command = {"prove": _prove, "replay": _replay, "bench": _bench}[args.command]
+        return command(args, out, err)
+    except UsageError as exc:
+        print(f"atcs: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+
+
+# --- prove -------------------------------------------------------------------------------
+
+
+def _prove(args, out: Console, err: Console) -> int:
+    from atcs.properties import PROPERTIES, select
+    from atcs.proofs import report, suite
+    from atcs.proofs.report import OutputPathError
+
+    props = select(args.only)
+    if not props:
+        modules = sorted({p.module for p in PROPERTIES.values()})
+        raise UsageError(f"prove: --only {args.only!r} matches no property (modules: {', '.join(modules)})")
+    try:
+        for option, path in (("--json", args.json), ("--junit", args.junit)):
+            if path is not None:
+                report.check_writable_file(option, path)
+        report.check_writable_dir("--cex-dir", args.cex_dir)
+    except OutputPathError as exc:
+        raise UsageError(f"prove: {exc}") from None
+
+    start = time.monotonic()
+    results = {}
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=err, transient=True) as progress:
+        task = progress.add_task("proving", total=len(props))
+        for result in suite.run(props, timeout_s=args.timeout, jobs=args.jobs):
+            results[result.name] = result
+            progress.update(task, advance=1, description=f"{result.name}: {result.status}")
+    wall = time.monotonic() - start
+
+    records = []
+    for prop in props:
+        result = results[prop.name]
+        cex = None
+        if result.trace is not None and result.replay is not None:
+            cex = str(report.write_counterexample(args.cex_dir, prop, result))
+        records.append(report.result_record(prop, result, cex))
+
+    table = Table(title=f"atcs prove: {len(props)} properties in {wall:.2f} s")
+    for heading in ("property", "requirement", "status", "engine", "k", "seconds"):
+        table.add_column(heading, justify="right" if heading in ("k", "seconds") else "left")
+    for r in records:
+        table.add_row(r["name"], r["requirement"], f"[{_STYLE[r['status']]}]{r['status']}[/]", r["engine"] or "",
+                      "" if r["k"] is None else str(r["k"]), f"{r['seconds']:.3f}")
+    out.print(table)
+    for r in records:
+        if r["status"] != "proved":
+            out.print(f"[{_STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}"
+                      + (f" (counterexample: {r['counterexample']})" if r["counterexample"] else ""))
+
+    if args.json:
+        report.write_atomic(args.json, report.json_report(records, timeout_s=args.timeout, wall_s=wall))
+    if args.junit:
+        report.write_atomic(args.junit, report.junit_report(records, wall_s=wall))
+
+    statuses = {r["status"] for r in records}
+    if "falsified" in statuses:
+        return EXIT_FALSIFIED
+    if statuses & {"unknown", "error"}:
+        return EXIT_UNKNOWN
+    return EXIT_OK
+
+
+# --- replay ------------------------------------------------------------------------------
+
+
+def _replay(args, out: Console, err: Console) -> int:
+    from atcs.properties import PROPERTIES
+    from atcs.proofs.trace import TraceFileError, format_value, from_json, replay
+
+    try:
+        prop, trace = from_json(args.trace, PROPERTIES)
+    except TraceFileError as exc:
+        raise UsageError(f"replay: {exc}") from None
+    result = replay(prop, trace)
+
+    out.print(f"{prop.name} ({prop.requirement}, seed {prop.seed}): {prop.text}")
+    if trace.params:
+        out.print("parameters: " + ", ".join(f"{n}={format_value(v)}" for n, v in trace.params.items()))
+    table = Table(title=f"replay of {Path(args.trace).name} (exact arithmetic)")
+    names = {role: list(prop.node.sorts(role)) for role in ("state", "inputs", "outputs")}
+    table.add_column("step", justify="right")
+    for role, prefix in (("state", "state"), ("inputs", "input"), ("outputs", "output")):
+        for n in names[role]:
+            table.add_column(f"{prefix}.{n}")
+    table.add_column("holds")
+    for k, inputs in enumerate(trace.inputs):
+        violated = not result.holds[k]
+        row = [f"{'>> ' if violated else ''}{k}"]
+        row += [str(format_value(result.states[k][n])) for n in names["state"]]
+        row += [str(format_value(inputs[n])) for n in names["inputs"]]
+        row += [str(format_value(result.outputs[k][n])) for n in names["outputs"]]
+        row.append("[bold]VIOLATED[/]" if violated else "yes")
+        table.add_row(*row, style="red" if violated else None)
+    out.print(table)
+    for problem in result.problems:
+        out.print(f"[yellow]not a run of the current model:[/] {problem}")
+    first = result.first_violation
+    if first is None:
+        out.print(f"[yellow]the property holds at every step on the current model[/] "
+                  f"(the trace recorded a violation at step {trace.violation_step})")
+    else:
+        out.print(f"[bold red]violated at step {first}[/]"
+                  + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})"))
+    return EXIT_OK if result.reproduced else EXIT_FALSIFIED
+
+
+# --- bench -------------------------------------------------------------------------------
+
+
+def _bench(args, out: Console, err: Console) -> int:
+    from atcs.proofs.bench import BENCHMARKS
+
+    if args.name is not None and args.name not in BENCHMARKS:
+        raise UsageError(f"bench: unknown benchmark {args.name!r} (known: {', '.join(BENCHMARKS)})")
+    for name in [args.name] if args.name else list(BENCHMARKS):
+        BENCHMARKS[name](out)
+    return EXIT_OK
+
+
+if __name__ == "__main__":
+    sys.exit(main())

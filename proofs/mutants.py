@@ -1,0 +1,49 @@
+"""Mutants: a model's own step function with one deliberate fault, for proofs that must be able to fail.
+
+A mutant is made from the *source* of the real function (one exact text
+replacement, compiled in the function's own module namespace), never from a
+hand-copied variant, so it stays in step with the model as the model changes: if
+the text to replace is no longer in the source, making the mutant fails loudly.
+"""
+
+from __future__ import annotations
+
+import __future__
+import dataclasses
+import inspect
+import textwrap
+from typing import Callable
+
+from atcs.model.node import Node
+from atcs.properties.property import Property
+
+
+def mutate_function(fn: Callable, old: str, new: str) -> Callable:
+    """``fn`` recompiled with the one occurrence of ``old`` in its source replaced by ``new``."""
+    source = textwrap.dedent(inspect.getsource(fn))
+    count = source.count(old)
+    if count != 1:
+        raise ValueError(
+            f"mutating {fn.__module__}.{fn.__qualname__}: {old!r} occurs {count} times in its source; "
+            "it must occur exactly once"
+        )
+    code = compile(
+        source.replace(old, new),
+        f"<mutant of {fn.__module__}.{fn.__qualname__}: {old!r} -> {new!r}>",
+        "exec",
+        flags=__future__.annotations.compiler_flag,
+        dont_inherit=True,
+    )
+    namespace = dict(fn.__globals__)
+    exec(code, namespace)
+    return namespace[fn.__name__]
+
+
+def mutant_node(node: Node, old: str, new: str, *, function: str = "step") -> Node:
+    """``node`` with its ``step`` (or ``init``) function mutated."""
+    return dataclasses.replace(node, **{function: mutate_function(getattr(node, function), old, new)})
+
+
+def mutant_property(prop: Property, old: str, new: str, *, function: str = "step") -> Property:
+    """``prop`` about the mutated node."""
+    return dataclasses.replace(prop, node=mutant_node(prop.node, old, new, function=function))

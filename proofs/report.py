@@ -1,0 +1,127 @@
+"""Proof-suite reports: the JSON report, JUnit XML, counterexample files; all written atomically."""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from atcs.properties.property import Property
+from atcs.proofs.engine import Result
+from atcs.proofs.trace import to_csv, to_json
+
+
+class OutputPathError(ValueError):
+    """An output path cannot be written; the message names the option and the path."""
+
+
+def check_writable_file(option: str, path: str) -> None:
+    """Fail early (before any proof runs) if ``path`` cannot be written as a file."""
+    p = Path(path)
+    if p.is_dir():
+        raise OutputPathError(f"{option} {path}: is a directory")
+    parent = p.parent if str(p.parent) else Path(".")
+    if not parent.is_dir():
+        raise OutputPathError(f"{option} {path}: directory {parent} does not exist")
+    try:
+        with tempfile.NamedTemporaryFile(dir=parent, prefix=".atcs-probe-"):
+            pass
+    except OSError as exc:
+        raise OutputPathError(f"{option} {path}: cannot write in {parent}: {exc.strerror}") from None
+
+
+def check_writable_dir(option: str, path: str) -> None:
+    """Fail early if ``path`` is not, and cannot become, a writable directory (it is created later)."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise OutputPathError(f"{option} {path}: exists and is not a directory")
+    existing = p
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        raise OutputPathError(f"{option} {path}: {existing} is not a directory")
+    try:
+        with tempfile.NamedTemporaryFile(dir=existing, prefix=".atcs-probe-"):
+            pass
+    except OSError as exc:
+        raise OutputPathError(f"{option} {path}: cannot write in {existing}: {exc.strerror}") from None
+
+
+def write_atomic(path: str | Path, text: str) -> None:
+    """Write ``text`` to a temporary file beside ``path``, then rename it over ``path``."""
+    path = Path(path)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def write_counterexample(directory: str | Path, prop: Property, result: Result) -> Path:
+    """Write ``<dir>/<property>.json`` and ``.csv`` for a falsified property; returns the JSON path."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    json_path = directory / f"{prop.name}.json"
+    doc = to_json(result.trace, result.replay, requirement=prop.requirement)
+    write_atomic(json_path, json.dumps(doc, indent=2) + "\n")
+    write_atomic(directory / f"{prop.name}.csv", to_csv(result.trace, result.replay))
+    return json_path
+
+
+def result_record(prop: Property, result: Result, counterexample: str | None) -> dict:
+    return {
+        "name": result.name,
+        "requirement": result.requirement,
+        "seed": prop.seed,
+        "text": prop.text,
+        "assumptions": [a.text for a in prop.assumptions],
+        "status": result.status,
+        "engine": result.engine or None,
+        "k": result.k,
+        "seconds": round(result.seconds, 4),
+        "message": result.message,
+        "counterexample": counterexample,
+    }
+
+
+def json_report(records: list[dict], *, timeout_s: float, wall_s: float) -> str:
+    counts = {s: sum(r["status"] == s for r in records) for s in ("proved", "falsified", "unknown", "error")}
+    doc = {"tool": "atcs", "timeout_s": timeout_s, "wall_seconds": round(wall_s, 3), "summary": counts,
+           "properties": records}
+    return json.dumps(doc, indent=2) + "\n"
+
+
+def junit_report(records: list[dict], *, wall_s: float) -> str:
+    """One test case per property: falsified and unknown are failures, error is an error."""
+    suite = ET.Element(
+        "testsuite",
+        name="atcs.prove",
+        tests=str(len(records)),
+        failures=str(sum(r["status"] in ("falsified", "unknown") for r in records)),
+        errors=str(sum(r["status"] == "error" for r in records)),
+        skipped="0",
+        time=f"{wall_s:.3f}",
+    )
+    for r in records:
+        case = ET.SubElement(
+            suite, "testcase", classname=f"atcs.{r['name'].split('.')[0]}", name=r["name"], time=f"{r['seconds']:.3f}"
+        )
+        ET.SubElement(case, "properties").extend(
+            [ET.Element("property", name="requirement", value=r["requirement"]),
+             ET.Element("property", name="engine", value=str(r["engine"])),
+             ET.Element("property", name="k", value=str(r["k"]))]
+        )
+        if r["status"] in ("falsified", "unknown"):
+            detail = r["message"] + (f"; counterexample: {r['counterexample']}" if r["counterexample"] else "")
+            ET.SubElement(case, "failure", type=r["status"], message=f"{r['status']}: {r['message']}").text = detail
+        elif r["status"] == "error":
+            ET.SubElement(case, "error", type="error", message=r["message"]).text = r["message"]
+    root = ET.Element("testsuites")
+    root.append(suite)
+    ET.indent(root)
+    return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"

@@ -1,0 +1,34 @@
+"""Run many registered properties, in this process or in ``jobs`` worker processes."""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from atcs.properties import PROPERTIES, Property
+from atcs.proofs.engine import Result, prove
+
+
+def _prove_registered(name: str, timeout_s: float) -> Result:
+    return prove(PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES)
+
+
+def run(props: list[Property], *, timeout_s: float, jobs: int = 1,
+        on_start: Callable[[Property], None] = lambda p: None) -> Iterator[Result]:
+    """Yield one result per registered property, in completion order."""
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs!r}")
+    if jobs == 1 or len(props) == 1:
+        for prop in props:
+            on_start(prop)
+            yield _prove_registered(prop.name, timeout_s)
+        return
+    # spawn, not fork: z3 contexts must not be shared with a forked child
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {}
+        for prop in props:
+            on_start(prop)
+            futures[pool.submit(_prove_registered, prop.name, timeout_s)] = prop
+        for future in as_completed(futures):
+            yield future.result()

@@ -1,0 +1,64 @@
+"""Run a node cycle by cycle on a concrete backend, checking property predicates at every step.
+
+The predicates are the very ones the proofs use (``Property.holds``); the step
+is the node's own step function. A property is checked at a step only while its
+assumptions have held at every step so far (as in the proof: outside its
+assumptions a property claims nothing). Works with scalars or with numpy arrays
+(a batch of trains): a property is violated if it fails for any element.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from atcs.model.node import Node
+from atcs.model.ops.floating import FLOAT
+from atcs.properties.property import Property
+
+
+class PropertyViolation(AssertionError):
+    """A property predicate was false at a step where the property applies."""
+
+    def __init__(self, prop: Property, step: int, state: Any, inputs: Any, outputs: Any):
+        self.prop, self.step = prop, step
+        self.state, self.inputs, self.outputs = state, inputs, outputs
+        super().__init__(f"{prop.name} ({prop.requirement}) violated at step {step}: {prop.text}")
+
+
+def _all(value) -> bool:
+    return bool(np.all(value))
+
+
+@dataclass
+class Monitor:
+    node: Node
+    params: Any
+    state: Any
+    properties: tuple[Property, ...] = ()
+    ops: Any = FLOAT
+    step_count: int = 0
+    _active: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self):
+        for prop in self.properties:
+            if prop.node.name != self.node.name:
+                raise ValueError(f"property {prop.name} is about node {prop.node.name!r}, not {self.node.name!r}")
+        if not _all(self.node.init(self.ops, self.params, self.state)):
+            raise ValueError(f"node {self.node.name!r}: {self.state} is not an initial state")
+        self._active = {p.name: True for p in self.properties}
+
+    def step(self, inputs):
+        """Run one cycle; return the outputs, or raise :class:`PropertyViolation`."""
+        o, p, s = self.ops, self.params, self.state
+        nxt, out = self.node.step(o, p, s, inputs)
+        for prop in self.properties:
+            active = o.and_(self._active[prop.name], prop.assumed(o, p, s, inputs))
+            self._active[prop.name] = active
+            if not _all(o.implies(active, prop.holds(o, p, s, inputs, out, nxt))):
+                raise PropertyViolation(prop, self.step_count, s, inputs, out)
+        self.state = nxt
+        self.step_count += 1
+        return out

@@ -1,0 +1,125 @@
+"""The Ops backends: semantics each backend must share, and the symbolic backend's refusals."""
+
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import z3
+
+from atcs.model.ops import backends
+from atcs.model.ops.exact import EXACT
+from atcs.model.ops.floating import FLOAT
+from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, SymbolicValueError, unwrap
+
+
+def sym_value(value):
+    """Evaluate a closed symbolic term to a Fraction or bool."""
+    term = z3.simplify(unwrap(value))
+    if z3.is_true(term) or z3.is_false(term):
+        return z3.is_true(term)
+    return term.as_fraction()
+
+
+class TestRegistry:
+    def test_three_backends_by_name(self):
+        assert set(backends()) == {"float", "exact", "symbolic"}
+
+
+class TestSharedSemantics:
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_operations_agree(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        two, three = o.const(2), o.const("3")
+        assert read(o.min(three, two, o.const(5))) == 2
+        assert read(o.max(two, three)) == 3
+        assert read(o.ite(two < three, two, three)) == 2
+        assert read(o.ite(o.const_bool(False), two, three)) == 3
+        assert read(o.and_()) is True and read(o.or_()) is False
+        assert read(o.and_(two < three, o.not_(three < two))) is True
+        assert read(o.or_(three < two, two < two)) is False
+        assert read(o.implies(three < two, two < two)) is True
+        assert read(o.eq(two + 1, three)) is True
+        assert read(o.eq(two < three, o.const_bool(True))) is True
+        assert read(o.const("0.1") * 10) == 1
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_const_refuses_floats_and_bools(self, name):
+        o = backends()[name]
+        with pytest.raises(TypeError, match="0.1"):
+            o.const(0.1)
+        with pytest.raises(TypeError):
+            o.const(True)
+        with pytest.raises(ValueError, match="'x'"):
+            o.const("x")
+
+
+class TestSymbolicRefusals:
+    def setup_method(self):
+        self.x, self.y = Real(z3.Real("x")), Real(z3.Real("y"))
+
+    def test_bool_of_comparison_refused(self):
+        with pytest.raises(SymbolicValueError, match="o.ite"):
+            bool(self.x < self.y)
+        with pytest.raises(SymbolicValueError):
+            if self.x:  # noqa: SIM108
+                pass
+
+    def test_equality_refused(self):
+        # z3's own `==` would be silently decided by structural equality in an `if`
+        with pytest.raises(SymbolicValueError, match="o.eq"):
+            _ = self.x == self.y
+        with pytest.raises(SymbolicValueError, match="o.eq"):
+            _ = self.x != self.y
+        b = self.x < self.y
+        with pytest.raises(SymbolicValueError):
+            _ = b == b
+
+    def test_python_and_or_not_refused(self):
+        b = self.x < self.y
+        with pytest.raises(SymbolicValueError):
+            _ = b and b
+        with pytest.raises(SymbolicValueError):
+            _ = not b
+
+    def test_builtin_min_refused(self):
+        with pytest.raises(SymbolicValueError):
+            min(self.x, self.y)
+
+    def test_float_operand_refused(self):
+        with pytest.raises(SymbolicValueError, match="float"):
+            _ = self.x * 0.5
+
+    def test_mixed_exact_operands_accepted(self):
+        assert isinstance(Fraction(1, 2) * self.x + 1, Real)
+        assert isinstance(Fraction(1, 2) < self.x, Bool)
+
+    def test_not_hashable(self):
+        with pytest.raises(TypeError):
+            hash(self.x)
+
+
+class TestExactBackend:
+    def test_refuses_non_bool_conditions(self):
+        with pytest.raises(TypeError, match="bool"):
+            EXACT.ite(Fraction(1), 1, 2)
+
+    def test_fraction_arithmetic_is_exact(self):
+        assert EXACT.const("0.1") * 3 == Fraction(3, 10)
+
+
+class TestFloatBatch:
+    def test_elementwise_on_arrays(self):
+        a = np.array([1.0, 5.0, 3.0])
+        b = np.array([2.0, 4.0, 3.0])
+        assert FLOAT.min(a, b).tolist() == [1.0, 4.0, 3.0]
+        assert FLOAT.max(a, 2.5).tolist() == [2.5, 5.0, 3.0]
+        assert FLOAT.ite(a < b, a, b).tolist() == [1.0, 4.0, 3.0]
+        assert FLOAT.and_(a < 4, b > 2).tolist() == [False, False, True]
+        assert FLOAT.or_(a > 4, b < 3).tolist() == [True, True, False]
+        assert FLOAT.not_(a > 2).tolist() == [True, False, False]
+        assert FLOAT.eq(a, b).tolist() == [False, False, True]
+
+    def test_scalars_stay_scalars(self):
+        assert FLOAT.ite(True, 1.0, 2.0) == 1.0
+        assert isinstance(FLOAT.and_(True, False), bool)
