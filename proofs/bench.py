@@ -80,7 +80,8 @@ def bench_supervision(console: Console, trains: int = 1000, repeats: int = 7) ->
     table = Table(title=f"bench supervision: one cycle for {trains} trains (median of {repeats})")
     for col in ("backend", "per cycle (ms)", "per train (µs)", "share of 100 ms cycle", "vs numpy batch"):
         table.add_column(col, justify="left" if col == "backend" else "right")
-    for name, t in (("float, numpy batch", t_batch), ("float, scalar loop", t_float), ("exact, Fraction loop", t_exact)):
+    rows = (("float, numpy batch", t_batch), ("float, scalar loop", t_float), ("exact, Fraction loop", t_exact))
+    for name, t in rows:
         table.add_row(name, f"{t * 1e3:.3f}", f"{t / trains * 1e6:.2f}", f"{t / CYCLE_S:.2%}", f"{t / t_batch:.1f}x")
     console.print(table)
     return {"numpy_batch_s": t_batch, "float_loop_s": t_float, "exact_loop_s": t_exact}

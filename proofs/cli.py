@@ -92,9 +92,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _prove(args, out: Console, err: Console) -> int:
-    from atcs.properties import PROPERTIES, select
     from atcs.proofs import report, suite
     from atcs.proofs.report import OutputPathError
+    from atcs.properties import PROPERTIES, select
 
     props = select(args.only)
     if not props:
@@ -155,8 +155,8 @@ def _prove(args, out: Console, err: Console) -> int:
 
 
 def _replay(args, out: Console, err: Console) -> int:
-    from atcs.properties import PROPERTIES
     from atcs.proofs.trace import TraceFileError, format_value, from_json, replay
+    from atcs.properties import PROPERTIES
 
     try:
         prop, trace = from_json(args.trace, PROPERTIES)
@@ -167,25 +167,21 @@ def _replay(args, out: Console, err: Console) -> int:
     out.print(f"{prop.name} ({prop.requirement}, seed {prop.seed}): {prop.text}")
     if trace.params:
         out.print("parameters: " + ", ".join(f"{n}={format_value(v)}" for n, v in trace.params.items()))
-    table = Table(title=f"replay of {Path(args.trace).name} (exact arithmetic)")
-    names = {role: list(prop.node.sorts(role)) for role in ("state", "inputs", "outputs")}
-    table.add_column("step", justify="right")
-    for role, prefix in (("state", "state"), ("inputs", "input"), ("outputs", "output")):
-        for n in names[role]:
-            table.add_column(f"{prefix}.{n}")
-    table.add_column("holds")
-    for k, inputs in enumerate(trace.inputs):
-        violated = not result.holds[k]
-        row = [f"{'>> ' if violated else ''}{k}"]
-        row += [str(format_value(result.states[k][n])) for n in names["state"]]
-        row += [str(format_value(inputs[n])) for n in names["inputs"]]
-        row += [str(format_value(result.outputs[k][n])) for n in names["outputs"]]
-        row.append("[bold]VIOLATED[/]" if violated else "yes")
-        table.add_row(*row, style="red" if violated else None)
+    first = result.first_violation
+    steps = range(len(trace.inputs))
+    table = Table(title=f"replay of {Path(args.trace).name} (exact arithmetic; one column per step)")
+    table.add_column("variable")
+    for k in steps:
+        table.add_column(f"{k} VIOLATED" if k == first else str(k), justify="right",
+                         style="bold red" if k == first else None)
+    for role, prefix, values in (("state", "state", result.states), ("inputs", "input", trace.inputs),
+                                 ("outputs", "output", result.outputs)):
+        for n in prop.node.sorts(role):
+            table.add_row(f"{prefix}.{n}", *(str(format_value(values[k][n])) for k in steps))
+    table.add_row("holds", *("no" if not ok else "yes" for ok in result.holds))
     out.print(table)
     for problem in result.problems:
         out.print(f"[yellow]not a run of the current model:[/] {problem}")
-    first = result.first_violation
     if first is None:
         out.print(f"[yellow]the property holds at every step on the current model[/] "
                   f"(the trace recorded a violation at step {trace.violation_step})")

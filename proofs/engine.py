@@ -15,12 +15,14 @@ from __future__ import annotations
 import time
 import traceback
 from dataclasses import dataclass
+from pathlib import Path
 
-from atcs.properties.property import Property
+from atcs.model import ops
 from atcs.proofs.bmc import Bmc, Check
 from atcs.proofs.induction import Induction
 from atcs.proofs.system import Unrolling
 from atcs.proofs.trace import Replay, ReplayError, Trace, extract, reproduce
+from atcs.properties.property import Property
 
 STATUSES = ("proved", "falsified", "unknown", "error")
 
@@ -71,6 +73,7 @@ def prove(
     timeout_s: float = 60.0,
     lemmas: dict[str, Property] | None = None,
     max_k: int | None = None,
+    _chain: tuple[str, ...] = (),
 ) -> Result:
     """Prove or falsify ``prop`` within ``timeout_s`` seconds (lemmas' proofs included).
 
@@ -87,12 +90,14 @@ def prove(
 
     try:
         assumed = []
+        if prop.name in _chain:
+            return result("error", message=f"lemma cycle: {' -> '.join((*_chain, prop.name))}")
         for name in prop.lemmas:
             if lemmas is None or name not in lemmas:
                 return result("error", message=f"lemma {name!r} is not a known property")
             lemma = lemmas[name]
             check_lemma(prop, lemma)
-            sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas)
+            sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas, _chain=(*_chain, prop.name))
             if sub.status != "proved":
                 status = "error" if sub.status in ("falsified", "error") else "unknown"
                 return result(status, message=f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))
@@ -125,8 +130,18 @@ def prove(
     except _Timeout:
         return result("unknown", message=f"timeout after {timeout_s:g} s")
     except Exception as exc:  # the model or property could not be built: report, never pass
-        where = traceback.extract_tb(exc.__traceback__)[-1]
-        return result("error", message=f"{type(exc).__name__}: {exc} ({where.filename}:{where.lineno})")
+        return result("error", message=f"{type(exc).__name__}: {exc}{_model_location(exc)}")
+
+
+_ENGINE_DIRS = (str(Path(__file__).parent), str(Path(ops.__file__).parent))
+
+
+def _model_location(exc: Exception) -> str:
+    """Where in the model or property code the exception arose (the innermost frame outside the engine)."""
+    for frame in reversed(traceback.extract_tb(exc.__traceback__)):
+        if not frame.filename.startswith(_ENGINE_DIRS):
+            return f" (at {frame.filename}:{frame.lineno}: {frame.line})"
+    return ""
 
 
 def _unknown(check: Check, what: str, k: int) -> str:

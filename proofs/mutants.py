@@ -7,12 +7,12 @@ the text to replace is no longer in the source, making the mutant fails loudly.
 """
 
 from __future__ import annotations
-
 import __future__
+
 import dataclasses
 import inspect
 import textwrap
-from typing import Callable
+from collections.abc import Callable
 
 from atcs.model.node import Node
 from atcs.properties.property import Property

@@ -8,9 +8,9 @@ import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from atcs.properties.property import Property
 from atcs.proofs.engine import Result
 from atcs.proofs.trace import to_csv, to_json
+from atcs.properties.property import Property
 
 
 class OutputPathError(ValueError):

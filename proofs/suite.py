@@ -6,8 +6,8 @@ import multiprocessing
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 
-from atcs.properties import PROPERTIES, Property
 from atcs.proofs.engine import Result, prove
+from atcs.properties import PROPERTIES, Property
 
 
 def _prove_registered(name: str, timeout_s: float) -> Result:

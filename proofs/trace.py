@@ -21,8 +21,8 @@ import z3
 
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
-from atcs.properties.property import Property
 from atcs.proofs.system import Unrolling, model_value
+from atcs.properties.property import Property
 
 FORMAT = "atcs-trace/1"
 

@@ -12,9 +12,9 @@ constraints on the environment (sensor ranges, curve ordering, parameter ranges)
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from atcs.model.node import Node
 

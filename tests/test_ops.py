@@ -9,7 +9,7 @@ import z3
 from atcs.model.ops import backends
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
-from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, SymbolicValueError, unwrap
+from atcs.model.ops.symbolic import Bool, Real, SymbolicValueError, unwrap
 
 
 def sym_value(value):
@@ -46,7 +46,7 @@ class TestSharedSemantics:
     @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
     def test_const_refuses_floats_and_bools(self, name):
         o = backends()[name]
-        with pytest.raises(TypeError, match="0.1"):
+        with pytest.raises(TypeError, match=r"0\.1"):
             o.const(0.1)
         with pytest.raises(TypeError):
             o.const(True)
@@ -59,17 +59,17 @@ class TestSymbolicRefusals:
         self.x, self.y = Real(z3.Real("x")), Real(z3.Real("y"))
 
     def test_bool_of_comparison_refused(self):
-        with pytest.raises(SymbolicValueError, match="o.ite"):
+        with pytest.raises(SymbolicValueError, match=r"o\.ite"):
             bool(self.x < self.y)
         with pytest.raises(SymbolicValueError):
-            if self.x:  # noqa: SIM108
+            if self.x:
                 pass
 
     def test_equality_refused(self):
         # z3's own `==` would be silently decided by structural equality in an `if`
-        with pytest.raises(SymbolicValueError, match="o.eq"):
+        with pytest.raises(SymbolicValueError, match=r"o\.eq"):
             _ = self.x == self.y
-        with pytest.raises(SymbolicValueError, match="o.eq"):
+        with pytest.raises(SymbolicValueError, match=r"o\.eq"):
             _ = self.x != self.y
         b = self.x < self.y
         with pytest.raises(SymbolicValueError):

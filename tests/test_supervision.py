@@ -14,17 +14,20 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
 from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
-from atcs.properties import PROPERTIES, select
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import mutant_property
 from atcs.proofs.trace import from_json, replay, reproduce, to_json
+from atcs.properties import PROPERTIES, select
 from atcs.sim.monitor import Monitor, PropertyViolation
 
 SUPERVISION_PROPERTIES = select("supervision.*")
 
 # property -> (text in supervision_step, its faulty replacement)
 MUTANTS = {
-    "supervision.eb_above_ebi": ("over_ebi = i.speed_mps > i.ebi_mps", "over_ebi = i.speed_mps > i.ebi_mps + o.const(1)"),
+    "supervision.eb_above_ebi": (
+        "over_ebi = i.speed_mps > i.ebi_mps",
+        "over_ebi = i.speed_mps > i.ebi_mps + o.const(1)",
+    ),
     "supervision.eb_latched_until_standstill": (
         "eb_released = o.and_(i.standstill, i.eb_release)",
         "eb_released = i.eb_release",

@@ -14,12 +14,12 @@ sort.
 from __future__ import annotations
 
 from fractions import Fraction
-from typing import Protocol, TypeVar, Union
+from typing import Protocol, TypeVar
 
 N = TypeVar("N")
 B = TypeVar("B")
 
-Constant = Union[int, Fraction, str]
+Constant = int | Fraction | str
 """What ``Ops.const`` accepts: an int, a Fraction, or a decimal string such as ``"0.1"``.
 
 Python floats are refused: ``0.1`` is not one tenth, and a proof about a model

@@ -1,0 +1,175 @@
+"""The `atcs` command line: prove, replay and bench; exit codes, reports, and bad input."""
+
+import json
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+
+from atcs.proofs.cli import main
+from atcs.proofs.mutants import mutant_property
+from atcs.properties import PROPERTIES
+
+LATCH = "supervision.eb_latched_until_standstill"
+
+
+@pytest.fixture
+def latch_mutant_registered(monkeypatch):
+    """Register a mutant of the EB latch (releases without standstill) under a name of its own."""
+    mutant = mutant_property(PROPERTIES[LATCH], "eb_released = o.and_(i.standstill, i.eb_release)",
+                             "eb_released = i.eb_release")
+    import dataclasses
+
+    mutant = dataclasses.replace(mutant, name="mutant.eb_latch_without_standstill")
+    monkeypatch.setitem(PROPERTIES, mutant.name, mutant)
+    return mutant
+
+
+def one_line_error(capsys, *expected):
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0, err
+    assert err.startswith("atcs: error:"), err
+    for text in expected:
+        assert text in err, err
+
+
+class TestProve:
+    def test_all_proved_exit_0_with_reports(self, tmp_path, capsys):
+        report, junit = tmp_path / "r.json", tmp_path / "r.xml"
+        code = main(["prove", "--json", str(report), "--junit", str(junit), "--cex-dir", str(tmp_path / "cex")])
+        assert code == 0
+        doc = json.loads(report.read_text())
+        names = [p["name"] for p in doc["properties"]]
+        assert names == list(PROPERTIES)
+        for p in doc["properties"]:
+            assert {"name", "requirement", "status", "engine", "k", "seconds", "counterexample"} <= set(p)
+            assert p["status"] == "proved" and p["engine"] == "k-induction" and p["counterexample"] is None
+        cases = ET.parse(junit).getroot().findall("./testsuite/testcase")
+        assert [c.get("name") for c in cases] == names
+        assert not any(c.find("failure") is not None or c.find("error") is not None for c in cases)
+        assert not (tmp_path / "cex").exists()
+        assert "supervision.eb_latched_until_standstill" in capsys.readouterr().out
+
+    def test_only_selects_by_glob(self, tmp_path):
+        report = tmp_path / "r.json"
+        assert main(["prove", "--only", "supervision.eb_*", "--json", str(report)]) == 0
+        names = [p["name"] for p in json.loads(report.read_text())["properties"]]
+        assert names == ["supervision.eb_above_ebi", "supervision.eb_latched_until_standstill"]
+
+    def test_parallel_jobs_give_the_same_verdicts(self, tmp_path):
+        report = tmp_path / "r.json"
+        assert main(["prove", "--jobs", "2", "--json", str(report)]) == 0
+        doc = json.loads(report.read_text())
+        assert [p["name"] for p in doc["properties"]] == list(PROPERTIES)
+        assert {p["status"] for p in doc["properties"]} == {"proved"}
+
+    def test_falsified_exit_1_writes_replayable_counterexample(self, tmp_path, latch_mutant_registered, capsys):
+        report, junit, cex = tmp_path / "r.json", tmp_path / "r.xml", tmp_path / "cex"
+        code = main(["prove", "--only", "mutant.*", "--json", str(report), "--junit", str(junit),
+                     "--cex-dir", str(cex)])
+        assert code == 1
+        (record,) = json.loads(report.read_text())["properties"]
+        assert record["status"] == "falsified" and record["engine"] == "bmc"
+        path = cex / "mutant.eb_latch_without_standstill.json"
+        assert record["counterexample"] == str(path)
+        assert (cex / "mutant.eb_latch_without_standstill.csv").read_text().startswith("step,param.")
+        (case,) = ET.parse(junit).getroot().findall("./testsuite/testcase")
+        assert case.find("failure").get("type") == "falsified"
+        capsys.readouterr()
+        # the counterexample replays through the command line
+        assert main(["replay", str(path)]) == 0
+        out = capsys.readouterr().out
+        assert f"{record['k']} VIOLATED" in out and f"violated at step {record['k']}" in out
+
+    def test_unknown_exit_3(self, tmp_path, monkeypatch):
+        import dataclasses
+
+        slow = dataclasses.replace(PROPERTIES["supervision.eb_above_ebi"], name="slow.needs_more_time")
+        monkeypatch.setitem(PROPERTIES, slow.name, slow)
+        monkeypatch.setattr("atcs.proofs.engine._Deadline.remaining", _always_timeout)
+        report = tmp_path / "r.json"
+        assert main(["prove", "--only", "slow.*", "--json", str(report)]) == 3
+        (record,) = json.loads(report.read_text())["properties"]
+        assert record["status"] == "unknown" and "timeout" in record["message"]
+
+    @pytest.mark.parametrize(
+        ("argv", "expected"),
+        [
+            (["prove", "--only", "nosuch.*"], "matches no property"),
+            (["prove", "--json", "/nonexistent-dir/r.json"], "--json /nonexistent-dir/r.json: directory"),
+            (["prove", "--junit", "/"], "--junit /: is a directory"),
+            (["prove", "--cex-dir", "/etc/hostname/cex"], "--cex-dir"),
+            (["prove", "--timeout", "0"], "--timeout: must be a positive number"),
+            (["prove", "--timeout", "soon"], "--timeout: must be a number"),
+            (["prove", "--jobs", "0"], "--jobs: must be at least 1"),
+            (["prove", "--frobnicate"], "unrecognized arguments"),
+            (["bench", "nosuch"], "unknown benchmark 'nosuch'"),
+            ([], "required"),
+        ],
+    )
+    def test_bad_input_one_line_exit_2(self, argv, expected, capsys):
+        assert main(argv) == 2
+        one_line_error(capsys, expected)
+
+    def test_bad_output_path_is_reported_before_proving(self, tmp_path, capsys, monkeypatch):
+        monkeypatch.setattr("atcs.proofs.suite.run", _must_not_run)
+        assert main(["prove", "--json", str(tmp_path / "missing" / "r.json")]) == 2
+        one_line_error(capsys, "does not exist")
+
+
+def _always_timeout(self):
+    from atcs.proofs.engine import _Timeout
+
+    raise _Timeout
+
+
+def _must_not_run(*args, **kwargs):
+    raise AssertionError("proofs ran although the output path is bad")
+
+
+class TestReplay:
+    def test_trace_of_a_changed_model_exit_1(self, tmp_path, latch_mutant_registered, monkeypatch, capsys):
+        cex = tmp_path / "cex"
+        assert main(["prove", "--only", "mutant.*", "--cex-dir", str(cex)]) == 1
+        # the model is "fixed": the same name now refers to the real latch
+        monkeypatch.setitem(PROPERTIES, latch_mutant_registered.name, PROPERTIES[LATCH])
+        capsys.readouterr()
+        assert main(["replay", str(cex / "mutant.eb_latch_without_standstill.json")]) == 1
+        out = capsys.readouterr().out
+        assert "not a run of the current model" in out
+
+    @pytest.mark.parametrize(
+        ("content", "expected"),
+        [
+            ("{not json", "not JSON"),
+            ("[]", "top level must be an object"),
+            ('{"format": "other"}', "field 'format'"),
+            ('{"format": "atcs-trace/1", "property": "nosuch.prop"}', "'nosuch.prop'"),
+        ],
+    )
+    def test_malformed_trace_file_exit_2(self, tmp_path, content, expected, capsys):
+        path = tmp_path / "bad.json"
+        path.write_text(content)
+        assert main(["replay", str(path)]) == 2
+        one_line_error(capsys, f"{path}: ", expected)
+
+    def test_missing_trace_file_exit_2(self, tmp_path, capsys):
+        assert main(["replay", str(tmp_path / "none.json")]) == 2
+        one_line_error(capsys, "cannot read")
+
+
+class TestBench:
+    def test_supervision_benchmark_prints_ratios(self, capsys):
+        assert main(["bench", "supervision"]) == 0
+        out = capsys.readouterr().out
+        assert "numpy batch" in out and "x" in out
+
+
+def test_console_script_is_installed():
+    script = Path(sys.executable).parent / "atcs"
+    done = subprocess.run([str(script), "prove", "--only", "supervision.eb_above_ebi"],
+                          capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert "proved" in done.stdout
