@@ -39,8 +39,8 @@ class Monitor:
     state: Any
     properties: tuple[Property, ...] = ()
     ops: Any = FLOAT
-    step_count: int = 0
-    _active: dict[str, Any] = field(default_factory=dict)
+    step_count: int = field(default=0, init=False)
+    _active: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         for prop in self.properties:

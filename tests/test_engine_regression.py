@@ -60,3 +60,21 @@ def test_every_property_has_an_expectation():
 def test_node_refuses_field_names_used_twice():
     with pytest.raises(ValueError, match="'x' appears in both state and inputs"):
         MODULES["error/misused_model"].node_with_clashing_fields()
+
+
+def test_counterexample_that_does_not_replay_is_an_error(monkeypatch):
+    """If the solver's trace and the exact replay disagree, the engine reports an internal error, not a verdict."""
+    import atcs.proofs.engine as engine
+
+    real_extract = engine.extract
+
+    def corrupted(u, model, k):
+        trace = real_extract(u, model, k)
+        trace.states[-1] = {n: v + 1 for n, v in trace.states[-1].items()}
+        return trace
+
+    monkeypatch.setattr(engine, "extract", corrupted)
+    prop = MODULES["falsified/counter_overflow"].PROPERTIES[0]
+    result = prove(prop, timeout_s=120)
+    assert result.status == "error"
+    assert "does not replay" in result.message and "the trace's" in result.message
