@@ -17,19 +17,23 @@ class OutputPathError(ValueError):
     """An output path cannot be written; the message names the option and the path."""
 
 
+def _probe(option: str, path: str, directory: Path) -> None:
+    """Create and delete a file in ``directory``: the only reliable writability test (root ignores modes)."""
+    try:
+        with tempfile.NamedTemporaryFile(dir=directory, prefix=".atcs-probe-"):
+            pass
+    except OSError as exc:
+        raise OutputPathError(f"{option} {path}: cannot write in {directory}: {exc.strerror}") from None
+
+
 def check_writable_file(option: str, path: str) -> None:
     """Fail early (before any proof runs) if ``path`` cannot be written as a file."""
     p = Path(path)
     if p.is_dir():
         raise OutputPathError(f"{option} {path}: is a directory")
-    parent = p.parent if str(p.parent) else Path(".")
-    if not parent.is_dir():
-        raise OutputPathError(f"{option} {path}: directory {parent} does not exist")
-    try:
-        with tempfile.NamedTemporaryFile(dir=parent, prefix=".atcs-probe-"):
-            pass
-    except OSError as exc:
-        raise OutputPathError(f"{option} {path}: cannot write in {parent}: {exc.strerror}") from None
+    if not p.parent.is_dir():
+        raise OutputPathError(f"{option} {path}: directory {p.parent} does not exist")
+    _probe(option, path, p.parent)
 
 
 def check_writable_dir(option: str, path: str) -> None:
@@ -42,11 +46,7 @@ def check_writable_dir(option: str, path: str) -> None:
         existing = existing.parent
     if not existing.is_dir():
         raise OutputPathError(f"{option} {path}: {existing} is not a directory")
-    try:
-        with tempfile.NamedTemporaryFile(dir=existing, prefix=".atcs-probe-"):
-            pass
-    except OSError as exc:
-        raise OutputPathError(f"{option} {path}: cannot write in {existing}: {exc.strerror}") from None
+    _probe(option, path, existing)
 
 
 def write_atomic(path: str | Path, text: str) -> None:

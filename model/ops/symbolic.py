@@ -40,13 +40,33 @@ def _term(value) -> z3.ArithRef:
     return z3.Q(value.numerator, value.denominator)
 
 
-class Real:
-    """A z3 real term. Arithmetic and ordering comparisons build new terms."""
+class _Symbolic:
+    """A wrapped z3 term: no Python truth value, no ``==`` or ``!=``, not hashable."""
 
     __slots__ = ("term",)
 
-    def __init__(self, term: z3.ArithRef):
+    def __init__(self, term: z3.ExprRef):
         self.term = term
+
+    def __eq__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    def __ne__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    __hash__ = None
+
+    def __bool__(self):
+        raise SymbolicValueError(_BOOL_HINT)
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.term})"
+
+
+class Real(_Symbolic):
+    """A z3 real term. Arithmetic and ordering comparisons build new terms."""
+
+    __slots__ = ()
 
     def __add__(self, other):
         return Real(self.term + _term(other))
@@ -87,42 +107,11 @@ class Real:
     def __ge__(self, other):
         return Bool(self.term >= _term(other))
 
-    def __eq__(self, other):
-        raise SymbolicValueError(_EQ_HINT)
 
-    def __ne__(self, other):
-        raise SymbolicValueError(_EQ_HINT)
+class Bool(_Symbolic):
+    """A z3 boolean term. Combine with ``o.and_``, ``o.or_``, ``o.not_``."""
 
-    __hash__ = None
-
-    def __bool__(self):
-        raise SymbolicValueError(_BOOL_HINT)
-
-    def __repr__(self):
-        return f"Real({self.term})"
-
-
-class Bool:
-    """A z3 boolean term. It has no Python truth value and no ``==``."""
-
-    __slots__ = ("term",)
-
-    def __init__(self, term: z3.BoolRef):
-        self.term = term
-
-    def __eq__(self, other):
-        raise SymbolicValueError(_EQ_HINT)
-
-    def __ne__(self, other):
-        raise SymbolicValueError(_EQ_HINT)
-
-    __hash__ = None
-
-    def __bool__(self):
-        raise SymbolicValueError(_BOOL_HINT)
-
-    def __repr__(self):
-        return f"Bool({self.term})"
+    __slots__ = ()
 
 
 def _bool_term(value) -> z3.BoolRef:
