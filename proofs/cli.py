@@ -155,6 +155,7 @@ def _prove(args, out: Console, err: Console) -> int:
 
 
 def _replay(args, out: Console, err: Console) -> int:
+    from atcs.model.node import flatten
     from atcs.proofs.trace import TraceFileError, format_value, from_json, replay
     from atcs.properties import PROPERTIES
 
@@ -174,10 +175,9 @@ def _replay(args, out: Console, err: Console) -> int:
     for k in steps:
         table.add_column(f"{k} VIOLATED" if k == first else str(k), justify="right",
                          style="bold red" if k == first else None)
-    for role, prefix, values in (("state", "state", result.states), ("inputs", "input", trace.inputs),
-                                 ("outputs", "output", result.outputs)):
-        for n in prop.node.sorts(role):
-            table.add_row(f"{prefix}.{n}", *(str(format_value(values[k][n])) for k in steps))
+    for prefix, values in (("state", result.states), ("input", trace.inputs), ("output", result.outputs)):
+        for n in flatten(values[0]):
+            table.add_row(f"{prefix}.{n}", *(str(format_value(flatten(values[k])[n])) for k in steps))
     table.add_row("holds", *("no" if not ok else "yes" for ok in result.holds))
     out.print(table)
     for problem in result.problems:

@@ -16,33 +16,55 @@ symbolic unless the property fixes them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from fractions import Fraction
 
 import z3
 
-from atcs.model.node import Node
+from atcs.model.node import Node, Sort
 from atcs.model.ops import to_fraction
 from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, unwrap
 from atcs.properties.property import Property
 
 
+def _variable(kind: str, label: str):
+    return Real(z3.Real(label)) if kind == "real" else Bool(z3.Bool(label))
+
+
+def variable(name: str, sort: Sort, suffix: str | None):
+    """Fresh z3 constants for one field: ``name@suffix``, or a tuple ``name[j]@suffix``."""
+    at = "" if suffix is None else f"@{suffix}"
+    if sort.size is None:
+        return _variable(sort.kind, f"{name}{at}")
+    return tuple(_variable(sort.kind, f"{name}[{j}]{at}") for j in range(sort.size))
+
+
 def variables(cls: type, node: Node, role: str, suffix: str | None):
     """An instance of ``cls`` whose fields are fresh z3 constants ``field@suffix``."""
-    values = {}
-    for name, sort in node.sorts(role).items():
-        label = name if suffix is None else f"{name}@{suffix}"
-        values[name] = Real(z3.Real(label)) if sort == "real" else Bool(z3.Bool(label))
-    return cls(**values)
+    return cls(**{name: variable(name, sort, suffix) for name, sort in node.sorts(role).items()})
 
 
-def _fixed(node: Node, name: str, value):
-    sort = node.sorts("params")[name]
-    if sort == "bool":
+def _fixed_scalar(node: Node, name: str, kind: str, value):
+    if kind == "bool":
         if not isinstance(value, bool):
             raise TypeError(f"fixed parameter {name!r} of node {node.name!r} is boolean, got {value!r}")
         return Bool(z3.BoolVal(value))
     f = to_fraction(value, what=f"fixed parameter {name!r}")
     return Real(z3.Q(f.numerator, f.denominator))
+
+
+def _fixed(node: Node, name: str, value):
+    sort = node.sorts("params")[name]
+    if sort.size is None:
+        return _fixed_scalar(node, name, sort.kind, value)
+    if not isinstance(value, (tuple, list)) or len(value) != sort.size:
+        raise TypeError(f"fixed parameter {name!r} of node {node.name!r} needs {sort.size} values, got {value!r}")
+    return tuple(_fixed_scalar(node, f"{name}[{j}]", sort.kind, v) for j, v in enumerate(value))
+
+
+def equal(left, right) -> z3.BoolRef:
+    """Two field values (scalars or tuples) are equal."""
+    if isinstance(left, tuple):
+        return z3.And(*[unwrap(SYMBOLIC.eq(a, b)) for a, b in zip(left, right, strict=True)])
+    return unwrap(SYMBOLIC.eq(left, right))
 
 
 @dataclass
@@ -67,10 +89,7 @@ class Unrolling:
         fixed = dict(prop.fixed_params)
         values = {}
         for name, sort in self.node.sorts("params").items():
-            if name in fixed:
-                values[name] = _fixed(self.node, name, fixed[name])
-            else:
-                values[name] = Real(z3.Real(name)) if sort == "real" else Bool(z3.Bool(name))
+            values[name] = _fixed(self.node, name, fixed[name]) if name in fixed else variable(name, sort, None)
         self.params = self.node.params(**values)
         self.frames: list[Frame] = []
         self._states = [variables(self.node.state, self.node, "state", "0")]
@@ -96,7 +115,7 @@ class Unrolling:
         computed, out = node.step(o, p, s, i)
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
-        trans = z3.And(*[unwrap(o.eq(getattr(nxt, n), getattr(computed, n))) for n in node.sorts("state")])
+        trans = z3.And(*[equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state")])
         assumed = unwrap(self.prop.assumed(o, p, s, i))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
         lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
@@ -105,12 +124,14 @@ class Unrolling:
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""
         sa, sb = self.state(a), self.state(b)
-        diffs = [z3.Not(unwrap(SYMBOLIC.eq(getattr(sa, n), getattr(sb, n)))) for n in self.node.sorts("state")]
+        diffs = [z3.Not(equal(getattr(sa, n), getattr(sb, n))) for n in self.node.sorts("state")]
         return z3.Or(*diffs) if diffs else z3.BoolVal(False)
 
 
-def model_value(model: z3.ModelRef, value) -> Fraction | bool:
-    """The exact value of a wrapped term in a z3 model."""
+def model_value(model: z3.ModelRef, value):
+    """The exact value (Fraction or bool, or a tuple of them) of a wrapped term in a z3 model."""
+    if isinstance(value, tuple):
+        return tuple(model_value(model, v) for v in value)
     term = model.eval(unwrap(value), model_completion=True)
     if z3.is_true(term):
         return True

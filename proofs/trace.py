@@ -19,7 +19,7 @@ from typing import Any
 
 import z3
 
-from atcs.model.node import as_dict
+from atcs.model.node import Sort, as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.proofs.system import Unrolling, model_value
 from atcs.properties.property import Property
@@ -133,8 +133,10 @@ def _show(values: dict[str, Value]) -> str:
 # --- files -------------------------------------------------------------------------------
 
 
-def format_value(value: Value) -> str | bool:
-    """Exact text for a value: a decimal when it has a finite one, else ``p/q``."""
+def format_value(value):
+    """Exact text for a value: a decimal when it has a finite one, else ``p/q`` (a list for a tuple)."""
+    if isinstance(value, tuple):
+        return [format_value(v) for v in value]
     if isinstance(value, bool):
         return value
     value = Fraction(value)
@@ -180,32 +182,28 @@ def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = 
 
 
 def to_csv(trace: Trace, replayed: Replay) -> str:
-    """One row per step, one column per parameter, state, input and output variable."""
+    """One row per step, one column per parameter, state, input and output variable (arrays spread out)."""
     out = io.StringIO()
-    first_outputs = replayed.outputs[0] if replayed.outputs else {}
-    columns = (
-        ["step"]
-        + [f"param.{n}" for n in trace.params]
-        + [f"state.{n}" for n in trace.states[0]]
-        + [f"input.{n}" for n in trace.inputs[0]]
-        + [f"output.{n}" for n in first_outputs]
-        + ["holds", "violation"]
+    groups = lambda k: (  # noqa: E731
+        ("param", trace.params), ("state", trace.states[k]), ("input", trace.inputs[k]),
+        ("output", replayed.outputs[k]),
     )
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(columns)
-    for k, inputs in enumerate(trace.inputs):
-        row = [k]
-        row += [format_value(v) for v in trace.params.values()]
-        row += [format_value(v) for v in trace.states[k].values()]
-        row += [format_value(v) for v in inputs.values()]
-        row += [format_value(v) for v in replayed.outputs[k].values()]
-        row += [replayed.holds[k], k == trace.violation_step]
-        writer.writerow(row)
+    writer.writerow(
+        ["step"] + [f"{prefix}.{n}" for prefix, record in groups(0) for n in flatten(record)] + ["holds", "violation"]
+    )
+    for k in range(len(trace.inputs)):
+        row = [k] + [format_value(v) for _, record in groups(k) for v in flatten(record).values()]
+        writer.writerow([*row, replayed.holds[k], k == trace.violation_step])
     return out.getvalue()
 
 
-def _parse_value(path: str, where: str, raw: Any, sort: str) -> Value:
-    if sort == "bool":
+def _parse_value(path: str, where: str, raw: Any, sort: Sort):
+    if sort.size is not None:
+        if not isinstance(raw, list) or len(raw) != sort.size:
+            raise TraceFileError(f"{path}: {where} must be a list of {sort.size} values, got {raw!r}")
+        return tuple(_parse_value(path, f"{where}[{j}]", v, Sort(sort.kind)) for j, v in enumerate(raw))
+    if sort.kind == "bool":
         if not isinstance(raw, bool):
             raise TraceFileError(f"{path}: {where} must be true or false, got {raw!r}")
         return raw
@@ -217,7 +215,7 @@ def _parse_value(path: str, where: str, raw: Any, sort: str) -> Value:
         raise TraceFileError(f"{path}: {where} is not a number: {raw!r}") from None
 
 
-def _parse_record(path: str, where: str, raw: Any, sorts: dict[str, str]) -> dict[str, Value]:
+def _parse_record(path: str, where: str, raw: Any, sorts: dict[str, Sort]) -> dict[str, Value]:
     if not isinstance(raw, dict):
         raise TraceFileError(f"{path}: {where} must be an object, got {raw!r}")
     missing = [n for n in sorts if n not in raw]

@@ -17,7 +17,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from atcs.model import NODES
-from atcs.model.node import as_dict
+from atcs.model.node import as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, unwrap
@@ -29,18 +29,28 @@ ROLES = ("params", "state", "inputs")
 number = st.floats(min_value=-1e4, max_value=1e4, allow_nan=False, allow_infinity=False, allow_subnormal=False)
 
 
+def value(sort):
+    scalar = number if sort.kind == "real" else st.booleans()
+    return scalar if sort.size is None else st.tuples(*[scalar] * sort.size)
+
+
 def record(node, role):
-    """A strategy for one {field: value} record of a node dataclass (floats and bools)."""
-    sorts = node.sorts(role)
-    return st.fixed_dictionaries({n: number if s == "real" else st.booleans() for n, s in sorts.items()})
+    """A strategy for one {field: value} record of a node dataclass (floats and bools, tuples for arrays)."""
+    return st.fixed_dictionaries({n: value(s) for n, s in node.sorts(role).items()})
 
 
 def example(node):
     return st.fixed_dictionaries({role: record(node, role) for role in ROLES})
 
 
+def exact(v):
+    if isinstance(v, tuple):
+        return tuple(exact(x) for x in v)
+    return Fraction(v) if isinstance(v, float) else v
+
+
 def as_exact(values):
-    return {n: Fraction(v) if isinstance(v, float) else v for n, v in values.items()}
+    return {n: exact(v) for n, v in values.items()}
 
 
 def run(node, ops, values):
@@ -67,12 +77,14 @@ def run_symbolic(node, values):
     args, nxt, out = symbolic_step(node)
     subst = []
     for role in ROLES:
-        for name, var in as_dict(args[role]).items():
-            v = values[role][name]
+        variables_ = flatten(as_dict(args[role]))
+        for name, v in flatten(values[role]).items():
             term = z3.BoolVal(v) if isinstance(v, bool) else z3.Q(v.numerator, v.denominator)
-            subst.append((unwrap(var), term))
+            subst.append((unwrap(variables_[name]), term))
 
     def evaluate(value):
+        if isinstance(value, tuple):
+            return tuple(evaluate(v) for v in value)
         term = z3.simplify(z3.substitute(unwrap(value), *subst))
         if z3.is_true(term) or z3.is_false(term):
             return z3.is_true(term)
@@ -83,8 +95,8 @@ def run_symbolic(node, values):
 
 
 def assert_float_close(float_values, exact_values, what):
-    for name, e in exact_values.items():
-        f = float_values[name]
+    for name, e in flatten(exact_values).items():
+        f = flatten(float_values)[name]
         if isinstance(e, bool):
             assert bool(f) == e, f"{what}.{name}: float {f} vs exact {e}"
         else:
@@ -94,7 +106,12 @@ def assert_float_close(float_values, exact_values, what):
 @pytest.mark.parametrize("node", NODES.values(), ids=list(NODES))
 class TestEveryNodeUnderEveryBackend:
     def test_runs_under_all_three_backends(self, node):
-        values = {role: {n: (1.5 if s == "real" else True) for n, s in node.sorts(role).items()} for role in ROLES}
+        values = {
+            role: {n: (1.5 if s.kind == "real" else True) if s.size is None else ((1.5,) * s.size if s.kind == "real"
+                                                                                  else (True,) * s.size)
+                   for n, s in node.sorts(role).items()}
+            for role in ROLES
+        }
         float_run = run(node, FLOAT, values)
         exact_run = run(node, EXACT, {r: as_exact(v) for r, v in values.items()})
         symbolic_run = run_symbolic(node, {r: as_exact(v) for r, v in values.items()})

@@ -78,3 +78,34 @@ def test_counterexample_that_does_not_replay_is_an_error(monkeypatch):
     result = prove(prop, timeout_s=120)
     assert result.status == "error"
     assert "does not replay" in result.message and "the trace's" in result.message
+
+
+def test_array_fields_round_trip_through_trace_files(tmp_path):
+    """Counterexamples of nodes with array fields are written and read back as lists."""
+    import json
+
+    from atcs.proofs.trace import from_json, reproduce, to_csv, to_json
+
+    prop = MODULES["falsified/array_shift_negative"].PROPERTIES[0]
+    result = prove(prop, timeout_s=120)
+    doc = to_json(result.trace, result.replay)
+    assert isinstance(doc["steps"][0]["state"]["cells"], list) and len(doc["steps"][0]["state"]["cells"]) == 3
+    path = tmp_path / "cex.json"
+    path.write_text(json.dumps(doc))
+    again_prop, again = from_json(path, {prop.name: prop})
+    assert again == result.trace
+    assert reproduce(again_prop, again).first_violation == 3
+    assert "state.cells[2]" in to_csv(result.trace, result.replay).splitlines()[0]
+    doc["steps"][0]["state"]["cells"] = [0, 0]
+    path.write_text(json.dumps(doc))
+    with pytest.raises(ValueError, match=r"steps\[0\]\.state\.cells must be a list of 3 values"):
+        from_json(path, {prop.name: prop})
+
+
+@pytest.mark.parametrize(("sizes", "message"), [({}, "needs a size >= 1"), ({"cells": 0}, "needs a size >= 1"),
+                                                ({"cells": 3, "other": 2}, "'other', which is not an array field")])
+def test_node_validates_array_sizes(sizes, message):
+    import dataclasses
+
+    with pytest.raises(ValueError, match=message):
+        dataclasses.replace(sys.modules["regression_models"].SHIFT, sizes=sizes)

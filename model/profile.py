@@ -1,0 +1,123 @@
+"""Piecewise-constant profiles over distance: speed limits and gradients (seed 001 §3.3, 000 §2.3).
+
+A profile is a fixed number of segments (as SCADE's fixed-size arrays, DESIGN.md):
+segment ``j`` holds ``values[j]`` on ``[starts_m[j], starts_m[j + 1])``, the last
+one up to ``end_m``. Inside the model everything is SI (m, m/s, m/s^2) and
+gradients are per mille (positive uphill); km/h are accepted only by the
+constructors below and converted once, exactly.
+
+The constructors validate concrete data and raise :class:`ProfileError` naming
+the field, the index and the value. The evaluation functions take an ``Ops`` and
+work on concrete and symbolic profiles alike.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Generic
+
+from atcs.model.ops import N, Ops
+
+KMH_PER_MPS = Fraction(36, 10)
+MAX_SPEED_KMH = 600
+"""Highest speed limit accepted (km/h): above any railway's."""
+MAX_GRADIENT_PERMILLE = 100
+"""Steepest gradient accepted (per mille, either sign): above any adhesion railway's."""
+
+
+class ProfileError(ValueError):
+    """Invalid profile data; the message names the field, the index and the value."""
+
+
+@dataclass(frozen=True)
+class Profile(Generic[N]):
+    """``values[j]`` on ``[starts_m[j], starts_m[j+1])``; the last segment ends at ``end_m``."""
+
+    starts_m: tuple[N, ...]
+    values: tuple[N, ...]
+    end_m: N
+
+    @property
+    def segments(self) -> int:
+        return len(self.values)
+
+
+def _exact(field: str, what: str, raw) -> Fraction:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, Fraction, str)):
+        raise ProfileError(f"{field}: {what} = {raw!r} is not a number")
+    if isinstance(raw, float) and not math.isfinite(raw):
+        raise ProfileError(f"{field}: {what} = {raw!r} is not finite")
+    try:
+        # a float is taken as the decimal it prints as (80.1 km/h is 801/10, not its binary neighbour)
+        return Fraction(repr(raw)) if isinstance(raw, float) else Fraction(raw)
+    except (ValueError, ZeroDivisionError):
+        raise ProfileError(f"{field}: {what} = {raw!r} is not a number") from None
+
+
+def _segments(field: str, starts_m: Sequence, values: Sequence, end_m) -> tuple[list[Fraction], Fraction]:
+    if len(starts_m) == 0 or len(starts_m) != len(values):
+        raise ProfileError(
+            f"{field}: needs one start per value and at least one segment, "
+            f"got {len(starts_m)} starts and {len(values)} values"
+        )
+    starts = [_exact(field, f"starts_m[{j}]", s) for j, s in enumerate(starts_m)]
+    end = _exact(field, "end_m", end_m)
+    for j in range(1, len(starts)):
+        if starts[j] <= starts[j - 1]:
+            raise ProfileError(
+                f"{field}: starts_m[{j}] = {starts_m[j]!r} is not after starts_m[{j - 1}] = {starts_m[j - 1]!r} "
+                "(segments must be sorted, with positive lengths, and must not overlap)"
+            )
+    if end <= starts[-1]:
+        raise ProfileError(
+            f"{field}: end_m = {end_m!r} is not after the last start starts_m[{len(starts) - 1}] = {starts_m[-1]!r} "
+            "(the last segment must have a positive length)"
+        )
+    return starts, end
+
+
+def speed_profile(field: str, starts_m: Sequence, limits_kmh: Sequence, end_m) -> Profile[Fraction]:
+    """A validated speed-limit profile from limits in km/h (stored in m/s)."""
+    starts, end = _segments(field, starts_m, limits_kmh, end_m)
+    limits = []
+    for j, raw in enumerate(limits_kmh):
+        v = _exact(field, f"limits_kmh[{j}]", raw)
+        if not 0 < v <= MAX_SPEED_KMH:
+            raise ProfileError(f"{field}: limits_kmh[{j}] = {raw!r} is outside (0, {MAX_SPEED_KMH}] km/h")
+        limits.append(v / KMH_PER_MPS)
+    return Profile(tuple(starts), tuple(limits), end)
+
+
+def gradient_profile(field: str, starts_m: Sequence, gradients_permille: Sequence, end_m) -> Profile[Fraction]:
+    """A validated gradient profile in per mille (positive uphill)."""
+    starts, end = _segments(field, starts_m, gradients_permille, end_m)
+    grads = []
+    for j, raw in enumerate(gradients_permille):
+        g = _exact(field, f"gradients_permille[{j}]", raw)
+        if not -MAX_GRADIENT_PERMILLE <= g <= MAX_GRADIENT_PERMILLE:
+            raise ProfileError(
+                f"{field}: gradients_permille[{j}] = {raw!r} is outside "
+                f"[-{MAX_GRADIENT_PERMILLE}, {MAX_GRADIENT_PERMILLE}] per mille"
+            )
+        grads.append(g)
+    return Profile(tuple(starts), tuple(grads), end)
+
+
+def value_at(o: Ops, profile: Profile, x_m):
+    """The profile's value at ``x_m`` (the first segment's before the line, the last one's after it)."""
+    value = profile.values[0]
+    for start, v in zip(profile.starts_m[1:], profile.values[1:], strict=True):
+        value = o.ite(x_m >= start, v, value)
+    return value
+
+
+def min_over(o: Ops, profile: Profile, from_m, to_m):
+    """The lowest value on ``[from_m, to_m]`` (``from_m <= to_m``): the value at ``from_m`` and
+    every segment that starts in ``(from_m, to_m]``."""
+    lowest = value_at(o, profile, from_m)
+    for start, v in zip(profile.starts_m[1:], profile.values[1:], strict=True):
+        lowest = o.ite(o.and_(from_m < start, start <= to_m), o.min(lowest, v), lowest)
+    return lowest
