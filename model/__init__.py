@@ -4,9 +4,11 @@
 under every backend.
 """
 
+from atcs.model.deceleration import DECELERATION
+from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.supervision import SUPERVISION
 
-NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION,)}
+NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, DECELERATION)}
 
 __all__ = ["NODES", "Node"]

@@ -106,12 +106,17 @@ def gradient_profile(field: str, starts_m: Sequence, gradients_permille: Sequenc
     return Profile(tuple(starts), tuple(grads), end)
 
 
+def step_lookup(o: Ops, starts: Sequence, values: Sequence, x):
+    """``values[j]`` for the last ``starts[j] <= x`` (``values[0]`` below ``starts[0]``): a step table."""
+    value = values[0]
+    for start, v in zip(starts[1:], values[1:], strict=True):
+        value = o.ite(x >= start, v, value)
+    return value
+
+
 def value_at(o: Ops, profile: Profile, x_m):
     """The profile's value at ``x_m`` (the first segment's before the line, the last one's after it)."""
-    value = profile.values[0]
-    for start, v in zip(profile.starts_m[1:], profile.values[1:], strict=True):
-        value = o.ite(x_m >= start, v, value)
-    return value
+    return step_lookup(o, profile.starts_m, profile.values, x_m)
 
 
 def min_over(o: Ops, profile: Profile, from_m, to_m):
@@ -120,4 +125,27 @@ def min_over(o: Ops, profile: Profile, from_m, to_m):
     lowest = value_at(o, profile, from_m)
     for start, v in zip(profile.starts_m[1:], profile.values[1:], strict=True):
         lowest = o.ite(o.and_(from_m < start, start <= to_m), o.min(lowest, v), lowest)
+    return lowest
+
+
+def segment_ends(profile: Profile) -> tuple:
+    """Where each segment ends: the next segment's start, and ``end_m`` for the last."""
+    return (*profile.starts_m[1:], profile.end_m)
+
+
+def lowest_under_train(o: Ops, profiles: Sequence[Profile], train_length_m, front_m):
+    """The lowest value of any of ``profiles`` anywhere under a train whose front is at ``front_m``.
+
+    Train-length extension (seed 001 §3.3, seed 000 §2.3): segment ``[s, e)`` binds
+    the front from ``s`` (a lower value applies as soon as the front reaches it)
+    until ``e + train_length_m`` (a higher value only once the rear has cleared
+    the lower segment), so every rise is delayed by the train length, and a
+    segment shorter than the train between two lower ones disappears (seed 002
+    Fig. 4(d)). ``front_m`` must lie on the profiles (a segment binds it).
+    """
+    lowest = o.max(*(v for p in profiles for v in p.values))
+    for p in profiles:
+        for start, end, v in zip(p.starts_m, segment_ends(p), p.values, strict=True):
+            binds = o.and_(start <= front_m, front_m < end + train_length_m)
+            lowest = o.ite(binds, o.min(lowest, v), lowest)
     return lowest

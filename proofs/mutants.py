@@ -4,6 +4,10 @@ A mutant is made from the *source* of the real function (one exact text
 replacement, compiled in the function's own module namespace), never from a
 hand-copied variant, so it stays in step with the model as the model changes: if
 the text to replace is no longer in the source, making the mutant fails loudly.
+
+A fault in a node's own ``step`` or ``init`` gives a new node
+(:func:`mutant_node`, :func:`mutant_property`); a fault in a helper the step
+calls is swapped in for the duration of a ``with`` block (:func:`patched`).
 """
 
 from __future__ import annotations
@@ -11,8 +15,10 @@ import __future__
 
 import dataclasses
 import inspect
+import sys
 import textwrap
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 
 from atcs.model.node import Node
 from atcs.properties.property import Property
@@ -47,3 +53,23 @@ def mutant_node(node: Node, old: str, new: str, *, function: str = "step") -> No
 def mutant_property(prop: Property, old: str, new: str, *, function: str = "step") -> Property:
     """``prop`` about the mutated node."""
     return dataclasses.replace(prop, node=mutant_node(prop.node, old, new, function=function))
+
+
+@contextmanager
+def patched(function: Callable, old: str, new: str) -> Iterator[Callable]:
+    """Within the block, every ``atcs`` module-level binding of ``function`` is its mutant."""
+    mutant = mutate_function(function, old, new)
+    bindings = [
+        (module, name)
+        for module in list(sys.modules.values())
+        if module is not None and module.__name__.startswith("atcs.")
+        for name, value in list(vars(module).items())
+        if value is function
+    ]
+    for module, name in bindings:
+        setattr(module, name, mutant)
+    try:
+        yield mutant
+    finally:
+        for module, name in bindings:
+            setattr(module, name, function)

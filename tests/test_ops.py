@@ -33,6 +33,7 @@ class TestSharedSemantics:
         two, three = o.const(2), o.const("3")
         assert read(o.min(three, two, o.const(5))) == 2
         assert read(o.max(two, three)) == 3
+        assert read(o.min(two)) == 2 and read(o.max(three)) == 3
         assert read(o.ite(two < three, two, three)) == 2
         assert read(o.ite(o.const_bool(False), two, three)) == 3
         assert read(o.and_()) is True and read(o.or_()) is False

@@ -23,10 +23,10 @@ class ExactOps:
         return then if _truth(cond) else else_
 
     def min(self, first, *rest):
-        return min(first, *rest)
+        return min(first, *rest) if rest else first
 
     def max(self, first, *rest):
-        return max(first, *rest)
+        return max(first, *rest) if rest else first
 
     def and_(self, *args) -> bool:
         return all(_truth(a) for a in args)

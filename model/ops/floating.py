@@ -34,12 +34,12 @@ class FloatOps:
     def min(self, first, *rest):
         if _any_array(first, *rest):
             return reduce(np.minimum, rest, np.asarray(first))
-        return min(first, *rest)
+        return min(first, *rest) if rest else first
 
     def max(self, first, *rest):
         if _any_array(first, *rest):
             return reduce(np.maximum, rest, np.asarray(first))
-        return max(first, *rest)
+        return max(first, *rest) if rest else first
 
     def and_(self, *args):
         if _any_array(*args):
