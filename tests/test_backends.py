@@ -3,9 +3,11 @@
 Differential test: for random parameters, states and inputs, the float run (scalar
 and numpy batch), the exact run and the symbolic run (one symbolic step,
 evaluated by substituting the values) give the same next state and outputs.
-Tolerance: exact and symbolic agree exactly; float numbers within a relative
-1e-9 of the exact value, float booleans exactly (inputs are drawn as doubles,
-so the exact and float runs start from the same values).
+Tolerance: exact and symbolic agree exactly. Numbers are drawn on a 1/8 grid
+within +-10^4, so the float run starts from the same values and its sums,
+differences and products are exact in binary: every comparison, hence every
+boolean and every branch, agrees exactly; numeric outputs (which may involve a
+division) agree within a relative 1e-9.
 """
 
 from fractions import Fraction
@@ -13,7 +15,7 @@ from fractions import Fraction
 import numpy as np
 import pytest
 import z3
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from atcs.model import NODES
@@ -26,7 +28,7 @@ from atcs.proofs.system import variables
 REL_TOL = 1e-9
 ROLES = ("params", "state", "inputs")
 
-number = st.floats(min_value=-1e4, max_value=1e4, allow_nan=False, allow_infinity=False, allow_subnormal=False)
+number = st.integers(min_value=-80_000, max_value=80_000).map(lambda k: k / 8)
 
 
 def value(sort):
@@ -120,6 +122,7 @@ class TestEveryNodeUnderEveryBackend:
             assert_float_close(f, e, what)
         assert set(float_run[1]) == set(node.sorts("outputs"))
 
+    @settings(max_examples=60)  # the symbolic side (substitute + simplify) is the slow part
     @given(data=st.data())
     def test_backends_agree(self, node, data):
         values = data.draw(example(node))
@@ -132,14 +135,19 @@ class TestEveryNodeUnderEveryBackend:
 
     @given(data=st.data())
     def test_numpy_batch_equals_scalar_runs(self, node, data):
+        """One call on arrays (an array per scalar field, a tuple of arrays per array field) steps a batch."""
         batch = data.draw(st.lists(example(node), min_size=1, max_size=16))
-        arrays = {
-            role: {n: np.array([b[role][n] for b in batch]) for n in node.sorts(role)} for role in ROLES
-        }
+
+        def column(role, name, sort):
+            if sort.size is None:
+                return np.array([b[role][name] for b in batch])
+            return tuple(np.array([b[role][name][j] for b in batch]) for j in range(sort.size))
+
+        arrays = {role: {n: column(role, n, s) for n, s in node.sorts(role).items()} for role in ROLES}
         batch_nxt, batch_out = run(node, FLOAT, arrays)
         for t, values in enumerate(batch):
             nxt, out = run(node, FLOAT, values)
-            for got, want in ((batch_nxt, nxt), (batch_out, out)):
+            for got, want in ((flatten(batch_nxt), flatten(nxt)), (flatten(batch_out), flatten(out))):
                 for name, v in want.items():
-                    assert np.asarray(got[name]).shape == (len(batch),), f"{name} is not a batch"
+                    assert np.shape(got[name]) == (len(batch),), f"{name} is not a batch"
                     assert got[name][t] == v, f"train {t} field {name}: batch {got[name][t]} vs scalar {v}"
