@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile, lowest_under_train, step_lookup
 
@@ -60,11 +60,6 @@ class DecelerationParams(Generic[N, B]):
 
 
 @dataclass(frozen=True)
-class NoState(Generic[N, B]):
-    pass
-
-
-@dataclass(frozen=True)
 class DecelerationQuery(Generic[N, B]):
     front_m: N
     probe_m: N
@@ -82,7 +77,7 @@ def gradient_profile_of(p: DecelerationParams) -> Profile:
     return Profile(p.gradient_starts_m, p.gradient_permille, p.line_end_m)
 
 
-def deceleration_step(o: Ops, p: DecelerationParams, s: NoState, i: DecelerationQuery):
+def deceleration_step(o: Ops, p: DecelerationParams, s: Stateless, i: DecelerationQuery):
     gradient = gradient_profile_of(p)
     return s, DecelerationOutputs(
         compensated_gradient_permille=compensated_gradient_permille(o, gradient, p.train_length_m, i.front_m),
@@ -96,10 +91,10 @@ def deceleration_step(o: Ops, p: DecelerationParams, s: NoState, i: Deceleration
 DECELERATION = Node(
     name="deceleration",
     params=DecelerationParams,
-    state=NoState,
+    state=Stateless,
     inputs=DecelerationQuery,
     outputs=DecelerationOutputs,
-    init=lambda o, p, s: o.const_bool(True),
+    init=always,
     step=deceleration_step,
     seed="000 §2.3",
     sizes={"gradient_starts_m": 4, "gradient_permille": 4, "brake_speeds_mps": 3, "brake_decelerations_mps2": 3},

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile, lowest_under_train
 
@@ -51,11 +51,6 @@ def mrsp_profiles(p: MrspParams) -> tuple[Profile, ...]:
 
 
 @dataclass(frozen=True)
-class NoState(Generic[N, B]):
-    pass
-
-
-@dataclass(frozen=True)
 class MrspQuery(Generic[N, B]):
     front_m: N
     """The train's front."""
@@ -68,7 +63,7 @@ class MrspOutputs(Generic[N, B]):
     mrsp_mps: N
 
 
-def mrsp_step(o: Ops, p: MrspParams, s: NoState, i: MrspQuery):
+def mrsp_step(o: Ops, p: MrspParams, s: Stateless, i: MrspQuery):
     pisl, tisl, ptsl, ttsl = mrsp_profiles(p)
     return s, MrspOutputs(mrsp_mps=mrsp_at(o, pisl, tisl, ptsl, ttsl, p.train_length_m, i.front_m))
 
@@ -76,10 +71,10 @@ def mrsp_step(o: Ops, p: MrspParams, s: NoState, i: MrspQuery):
 MRSP = Node(
     name="mrsp",
     params=MrspParams,
-    state=NoState,
+    state=Stateless,
     inputs=MrspQuery,
     outputs=MrspOutputs,
-    init=lambda o, p, s: o.const_bool(True),
+    init=always,
     step=mrsp_step,
     seed="001 §3.3, 002 §3.2",
     sizes={"pisl_starts_m": 4, "pisl_limits_mps": 4, "tisl_starts_m": 2, "tisl_limits_mps": 2,

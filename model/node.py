@@ -20,7 +20,7 @@ import dataclasses
 import typing
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Generic, Literal
 
 from atcs.model.ops import B, N
 
@@ -96,6 +96,16 @@ class Node:
             name: Sort(kind, self.sizes[name] if is_array else None)
             for name, (kind, is_array) in field_kinds(getattr(self, role)).items()
         }
+
+
+@dataclass(frozen=True)
+class Stateless(Generic[N, B]):
+    """The state of a node without memory (a pure function of parameters and inputs)."""
+
+
+def always(o, p, s):
+    """The initial-state predicate of a :class:`Stateless` node."""
+    return o.const_bool(True)
 
 
 def as_dict(value) -> dict[str, Any]:

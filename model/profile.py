@@ -40,10 +40,6 @@ class Profile(Generic[N]):
     values: tuple[N, ...]
     end_m: N
 
-    @property
-    def segments(self) -> int:
-        return len(self.values)
-
 
 def _exact(field: str, what: str, raw) -> Fraction:
     if isinstance(raw, bool) or not isinstance(raw, (int, float, Fraction, str)):
@@ -104,6 +100,14 @@ def gradient_profile(field: str, starts_m: Sequence, gradients_permille: Sequenc
             )
         grads.append(g)
     return Profile(tuple(starts), tuple(grads), end)
+
+
+def is_well_formed(o: Ops, profile: Profile):
+    """The symbolic counterpart of the constructors' checks on breakpoints: the profile starts at 0 and
+    its breakpoints increase strictly up to ``end_m`` (every segment has a positive length)."""
+    bounds = (*profile.starts_m[1:], profile.end_m)
+    increasing = (a < b for a, b in zip(profile.starts_m, bounds, strict=True))
+    return o.and_(o.eq(profile.starts_m[0], o.const(0)), *increasing)
 
 
 def step_lookup(o: Ops, starts: Sequence, values: Sequence, x):

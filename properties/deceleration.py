@@ -12,19 +12,18 @@ from atcs.model.deceleration import (
     gradient_deceleration_mps2,
     gradient_profile_of,
 )
-from atcs.model.profile import min_over, value_at
+from atcs.model.profile import is_well_formed, min_over, value_at
 from atcs.properties.property import Assumption, Property
+from atcs.properties.under_train import TRAIN_ON_LINE, rear_m
 
 
 def _well_formed(o, p, s, i):
     g = gradient_profile_of(p)
     return o.and_(
-        p.line_end_m > o.const(0),
         p.train_length_m >= o.const(0),
         o.const(0) <= p.rotating_mass_percent,
         p.rotating_mass_percent <= o.const(50),
-        o.eq(g.starts_m[0], o.const(0)),
-        *(a < b for a, b in zip(g.starts_m, (*g.starts_m[1:], p.line_end_m), strict=True)),
+        is_well_formed(o, g),
         *(o.and_(o.const(-100) <= v, v <= o.const(100)) for v in g.values),
     )
 
@@ -36,18 +35,6 @@ DATA_WELL_FORMED = Assumption(
     _well_formed,
 )
 
-
-def _rear_m(o, p, i):
-    return o.max(o.const(0), i.front_m - p.train_length_m)
-
-
-TRAIN_ON_LINE = Assumption(
-    "train_on_line",
-    "0 <= front < line end, and max(0, front - L) <= probe <= front",
-    lambda o, p, s, i: o.and_(
-        o.const(0) <= i.front_m, i.front_m < p.line_end_m, _rear_m(o, p, i) <= i.probe_m, i.probe_m <= i.front_m
-    ),
-)
 
 ASSUMPTIONS = (DATA_WELL_FORMED, TRAIN_ON_LINE)
 
@@ -70,7 +57,7 @@ PROPERTIES = (
         text="The compensated gradient is not lower than needed: it is the lowest gradient under the train.",
         node=DECELERATION,
         holds=lambda o, p, s, i, out, nxt: o.eq(
-            out.compensated_gradient_permille, min_over(o, gradient_profile_of(p), _rear_m(o, p, i), i.front_m)
+            out.compensated_gradient_permille, min_over(o, gradient_profile_of(p), rear_m(o, p, i), i.front_m)
         ),
         assumptions=ASSUMPTIONS,
     ),

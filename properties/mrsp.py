@@ -9,17 +9,18 @@ breakpoints with equal limits). The line starts at 0.
 from __future__ import annotations
 
 from atcs.model.mrsp import MRSP, mrsp_profiles
-from atcs.model.profile import min_over, value_at
+from atcs.model.profile import is_well_formed, min_over, value_at
 from atcs.properties.property import Assumption, Property
+from atcs.properties.under_train import TRAIN_ON_LINE, rear_m
 
 
 def _well_formed(o, p, s, i):
-    conditions = [p.line_end_m > o.const(0), p.train_length_m >= o.const(0)]
-    for profile in mrsp_profiles(p):
-        conditions.append(o.eq(profile.starts_m[0], o.const(0)))
-        conditions += [a < b for a, b in zip(profile.starts_m, (*profile.starts_m[1:], p.line_end_m), strict=True)]
-        conditions += [v > o.const(0) for v in profile.values]
-    return o.and_(*conditions)
+    profiles = mrsp_profiles(p)
+    return o.and_(
+        p.train_length_m >= o.const(0),
+        *(is_well_formed(o, profile) for profile in profiles),
+        *(v > o.const(0) for profile in profiles for v in profile.values),
+    )
 
 
 PROFILES_WELL_FORMED = Assumption(
@@ -29,18 +30,6 @@ PROFILES_WELL_FORMED = Assumption(
     _well_formed,
 )
 
-
-def _rear_m(o, p, i):
-    return o.max(o.const(0), i.front_m - p.train_length_m)
-
-
-TRAIN_ON_LINE = Assumption(
-    "train_on_line",
-    "0 <= front < line end, and the probe lies under the train: max(0, front - L) <= probe <= front",
-    lambda o, p, s, i: o.and_(
-        o.const(0) <= i.front_m, i.front_m < p.line_end_m, _rear_m(o, p, i) <= i.probe_m, i.probe_m <= i.front_m
-    ),
-)
 
 ASSUMPTIONS = (PROFILES_WELL_FORMED, TRAIN_ON_LINE)
 
@@ -77,7 +66,7 @@ PROPERTIES = (
         ),
         node=MRSP,
         holds=lambda o, p, s, i, out, nxt: out.mrsp_mps >= o.min(
-            *(min_over(o, profile, _rear_m(o, p, i), i.front_m) for profile in mrsp_profiles(p))
+            *(min_over(o, profile, rear_m(o, p, i), i.front_m) for profile in mrsp_profiles(p))
         ),
         assumptions=ASSUMPTIONS,
     ),
