@@ -39,3 +39,16 @@ class TestValidation:
     def test_fixed_param_must_exist(self):
         with pytest.raises(ValueError, match=r"'brakes_fitted', which is not a parameter .* service_brake_fitted"):
             Property("supervision.x", "R", "S", "T.", EB.node, EB.holds, fixed_params={"brakes_fitted": True})
+
+
+@pytest.mark.parametrize("prop", list(PROPERTIES.values()), ids=list(PROPERTIES))
+def test_assumptions_are_satisfiable_from_an_initial_state(prop):
+    """A proof under contradictory assumptions would be vacuous: each property's assumptions admit a first step."""
+    import z3
+
+    from atcs.proofs.system import Unrolling
+
+    u = Unrolling(prop)
+    solver = z3.Solver()
+    solver.add(u.init(), u.frame(0).trans, u.frame(0).assumed)
+    assert solver.check() == z3.sat
