@@ -26,7 +26,8 @@ from atcs.properties.property import Property
 
 FORMAT = "atcs-trace/1"
 
-Value = Fraction | bool
+Value = Fraction | bool | tuple
+"""An exact value: a number, a boolean, or a tuple of them (an array field)."""
 
 
 class ReplayError(Exception):
@@ -184,10 +185,11 @@ def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = 
 def to_csv(trace: Trace, replayed: Replay) -> str:
     """One row per step, one column per parameter, state, input and output variable (arrays spread out)."""
     out = io.StringIO()
-    groups = lambda k: (  # noqa: E731
-        ("param", trace.params), ("state", trace.states[k]), ("input", trace.inputs[k]),
-        ("output", replayed.outputs[k]),
-    )
+
+    def groups(k):
+        return (("param", trace.params), ("state", trace.states[k]), ("input", trace.inputs[k]),
+                ("output", replayed.outputs[k]))
+
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(
         ["step"] + [f"{prefix}.{n}" for prefix, record in groups(0) for n in flatten(record)] + ["holds", "violation"]

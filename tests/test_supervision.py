@@ -6,6 +6,7 @@ and the counterexample must replay exactly on the mutant (and not be a run of
 the real model).
 """
 
+import json
 from fractions import Fraction
 
 import pytest
@@ -88,8 +89,6 @@ class TestMutantsAreFalsified:
         assert replayed.holds[-1] is False and all(replayed.holds[:-1])
         # and survives the trip through its JSON file
         path = tmp_path / "cex.json"
-        import json
-
         path.write_text(json.dumps(to_json(trace, replayed)))
         prop, again = from_json(path, {name: mutant})
         assert again == trace
