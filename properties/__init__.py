@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import fnmatch
 
-from atcs.properties import deceleration, mrsp, supervision
+from atcs.properties import deceleration, mrsp, preprocessing, supervision
 from atcs.properties.property import Assumption, Property
 
 
@@ -25,7 +25,9 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
     return registry
 
 
-PROPERTIES: dict[str, Property] = _register(supervision.PROPERTIES, mrsp.PROPERTIES, deceleration.PROPERTIES)
+PROPERTIES: dict[str, Property] = _register(
+    supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES
+)
 
 
 def select(pattern: str | None = None) -> list[Property]:

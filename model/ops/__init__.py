@@ -14,6 +14,7 @@ sort.
 from __future__ import annotations
 
 from fractions import Fraction
+from collections.abc import Sequence
 from typing import Protocol, TypeVar
 
 N = TypeVar("N")
@@ -61,6 +62,22 @@ class Ops(Protocol[N, B]):
     def eq(self, left: N | B, right: N | B) -> B:
         """Equality; the only way to compare for equality in a step function."""
 
+    def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
+        """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.
+
+        The one data-dependent reordering a step function may use (merging
+        profiles' breakpoints). Concrete backends sort; the symbolic backend
+        builds an odd-even transposition network (``n (n - 1) / 2`` compare-swaps,
+        meant for the small capacities of proofs).
+        """
+
+
+def check_columns(keys: Sequence, columns: Sequence[Sequence]) -> None:
+    """``Ops.sort_by_key``'s argument check, shared by the backends."""
+    for index, column in enumerate(columns):
+        if len(column) != len(keys):
+            raise ValueError(f"sort_by_key: columns[{index}] has {len(column)} entries, keys has {len(keys)}")
+
 
 def to_fraction(value: Constant, *, what: str = "constant") -> Fraction:
     """Convert an ``Ops.const`` argument to a Fraction, refusing floats and bools."""
@@ -84,4 +101,4 @@ def backends() -> dict[str, Ops]:
     return {ops.name: ops for ops in (FLOAT, EXACT, SYMBOLIC)}
 
 
-__all__ = ["B", "Constant", "N", "Ops", "backends", "to_fraction"]
+__all__ = ["B", "Constant", "N", "Ops", "backends", "check_columns", "to_fraction"]

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from atcs.model.ops import Constant, to_fraction
+from atcs.model.ops import Constant, check_columns, to_fraction
 
 
 class ExactOps:
@@ -42,6 +42,11 @@ class ExactOps:
 
     def eq(self, left, right) -> bool:
         return left == right
+
+    def sort_by_key(self, keys, *columns):
+        check_columns(keys, columns)
+        order = sorted(range(len(keys)), key=keys.__getitem__)
+        return tuple(tuple(seq[k] for k in order) for seq in (keys, *columns))
 
 
 def _truth(value) -> bool:

@@ -10,7 +10,7 @@ from functools import reduce
 
 import numpy as np
 
-from atcs.model.ops import Constant, to_fraction
+from atcs.model.ops import Constant, check_columns, to_fraction
 
 
 def _any_array(*values) -> bool:
@@ -63,6 +63,22 @@ class FloatOps:
         if _any_array(left, right):
             return np.equal(left, right)
         return bool(left == right)
+
+    def sort_by_key(self, keys, *columns):
+        check_columns(keys, columns)
+        if not _any_array(*keys, *(v for column in columns for v in column)):
+            order = sorted(range(len(keys)), key=keys.__getitem__)
+            return tuple(tuple(seq[k] for k in order) for seq in (keys, *columns))
+        # a batch: sort each train's keys (axis 0 runs over the keys, the rest over the batch)
+        stacked = np.stack(np.broadcast_arrays(*keys)).astype(float)
+        shape = np.broadcast_shapes(stacked.shape[1:], *(np.shape(v) for column in columns for v in column))
+        stacked = np.broadcast_to(stacked, (len(keys), *shape))
+        order = np.argsort(stacked, axis=0, kind="stable")
+        result = [tuple(np.take_along_axis(stacked, order, axis=0))]
+        for column in columns:
+            values = np.stack([np.broadcast_to(v, shape) for v in column])
+            result.append(tuple(np.take_along_axis(values, order, axis=0)))
+        return tuple(result)
 
 
 FLOAT = FloatOps()

@@ -14,7 +14,7 @@ from fractions import Fraction
 
 import z3
 
-from atcs.model.ops import Constant, to_fraction
+from atcs.model.ops import Constant, check_columns, to_fraction
 
 
 class SymbolicValueError(TypeError):
@@ -182,6 +182,17 @@ class SymbolicOps:
 
     def eq(self, left, right) -> Bool:
         return Bool(_any_term(left) == _any_term(right))
+
+    def sort_by_key(self, keys, *columns):
+        check_columns(keys, columns)
+        wires = [[_term(k) for k in keys], *([_any_term(v) for v in column] for column in columns)]
+        n = len(keys)
+        for round_ in range(n):  # odd-even transposition: n rounds sort any input; swaps only on > (stable)
+            for j in range(round_ % 2, n - 1, 2):
+                swap = wires[0][j] > wires[0][j + 1]
+                for wire in wires:
+                    wire[j], wire[j + 1] = z3.If(swap, wire[j + 1], wire[j]), z3.If(swap, wire[j], wire[j + 1])
+        return tuple(tuple(wrap(term) for term in wire) for wire in wires)
 
 
 SYMBOLIC = SymbolicOps()

@@ -1,0 +1,123 @@
+"""Properties of seed 002's preprocessed MRSP (§3.2, equations 1 and 2, Fig. 4 and 5).
+
+The materialized profiles of :mod:`atcs.model.psl` are checked against the
+definition the other MRSP properties are proved about
+(:func:`~atcs.model.profile.lowest_under_train`, the lowest limit under the
+train), for every profile up to the nodes' capacities, all symbolic.
+"""
+
+from __future__ import annotations
+
+from atcs.model.profile import Profile, is_well_formed, lowest_under_train
+from atcs.model.psl import MRSP_UPDATE, PSL, UPDATE_WINDOW, filter_convex_bumps, psl_profiles
+from atcs.properties.property import Assumption, Property
+
+
+def _restriction_ok(o, p, start, end, limit, first_allowed):
+    return o.and_(first_allowed <= start, start < end, end <= p.line_end_m, limit > o.const(0))
+
+
+def _psl_data_ok(o, p, s, i):
+    profiles = psl_profiles(p)
+    return o.and_(
+        p.train_length_m >= o.const(0),
+        *(is_well_formed(o, profile) for profile in profiles),
+        *(v > o.const(0) for profile in profiles for v in profile.values),
+        _restriction_ok(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps, o.const(0)),
+    )
+
+
+def _update_data_ok(o, p, s, i):
+    psl = Profile(p.psl_starts_m, p.psl_limits_mps, p.line_end_m)
+    lo, _ = UPDATE_WINDOW
+    return o.and_(
+        p.train_length_m >= o.const(0),
+        is_well_formed(o, psl),
+        *(v > o.const(0) for v in psl.values),
+        _restriction_ok(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps, psl.starts_m[lo]),
+        _restriction_ok(o, p, p.other_start_m, p.other_end_m, p.other_limit_mps, o.const(0)),
+    )
+
+
+FRONT_ON_LINE = Assumption(
+    "front_on_line", "0 <= front < line end", lambda o, p, s, i: o.and_(o.const(0) <= i.front_m, i.front_m < p.line_end_m)
+)
+
+PSL_DATA = Assumption(
+    "psl_data_well_formed",
+    "PISL and PTSL start at 0, their breakpoints increase strictly up to the line end, their limits are "
+    "positive; the restriction lies on the line with a positive length and limit; the train length is >= 0",
+    _psl_data_ok,
+)
+
+UPDATE_DATA = Assumption(
+    "update_data_well_formed",
+    "the PSL starts at 0, increases strictly up to the line end, with positive limits; both restrictions "
+    "lie on the line with positive lengths and limits; the updated one starts in the window's first "
+    "segment or later (what bisection guarantees); the train length is >= 0",
+    _update_data_ok,
+)
+
+
+def _tsr_profile(o, p) -> Profile:
+    """The restriction as a TISL profile of the line (no limit outside it: the highest limit around)."""
+    top = o.max(p.tsr_limit_mps, *p.pisl_limits_mps, *p.ptsl_limits_mps)
+    return Profile((o.const(0), p.tsr_start_m, p.tsr_end_m), (top, p.tsr_limit_mps, top), p.line_end_m)
+
+
+def _matches_definition(o, p, s, i, out, nxt):
+    pisl, ptsl = psl_profiles(p)
+    return o.and_(
+        o.eq(out.psl_mps, lowest_under_train(o, (pisl, ptsl), p.train_length_m, i.front_m)),
+        o.eq(out.mrsp_mps, lowest_under_train(o, (pisl, ptsl, _tsr_profile(o, p)), p.train_length_m, i.front_m)),
+    )
+
+
+def _filter_neutral(o, p, s, i, out, nxt):
+    pisl, _ = psl_profiles(p)
+    filtered = filter_convex_bumps(o, pisl, p.train_length_m)
+    return o.eq(lowest_under_train(o, (filtered,), p.train_length_m, i.front_m),
+                lowest_under_train(o, (pisl,), p.train_length_m, i.front_m))
+
+
+PROPERTIES = (
+    Property(
+        name="mrsp.preprocessed_matches_definition",
+        requirement="MRSP-04",
+        seed="002 §3.2 (equations 1 and 2, Fig. 5)",
+        text=(
+            "The materialized PSL (filtered PISL and PTSL, extended by the train length, merged) and the MRSP "
+            "with a temporary restriction merged in equal, at every position, the lowest limit under the train."
+        ),
+        node=PSL,
+        holds=_matches_definition,
+        assumptions=(PSL_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.bump_filter_neutral",
+        requirement="MRSP-05",
+        seed="002 §3.2 (Fig. 4(d), 4(e))",
+        text=(
+            "Removing the convex bumps shorter than the train from PISL does not change the lowest PISL limit "
+            "under the train at any position."
+        ),
+        node=PSL,
+        holds=_filter_neutral,
+        assumptions=(PSL_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.incremental_equals_full",
+        requirement="MRSP-06",
+        seed="002 §3.2",
+        text=(
+            "Applying or withdrawing a temporary restriction by recomputing only [start, end + L) from the PSL "
+            "gives, at every position, the MRSP recomputed over the whole line (with another restriction active)."
+        ),
+        node=MRSP_UPDATE,
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.eq(out.applied_incremental_mps, out.applied_full_mps),
+            o.eq(out.withdrawn_incremental_mps, out.withdrawn_full_mps),
+        ),
+        assumptions=(UPDATE_DATA, FRONT_ON_LINE),
+    ),
+)
