@@ -159,9 +159,6 @@ class PslParams(Generic[N, B]):
     pisl_limits_mps: tuple[N, ...]
     ptsl_starts_m: tuple[N, ...]
     ptsl_limits_mps: tuple[N, ...]
-    tsr_start_m: N
-    tsr_end_m: N
-    tsr_limit_mps: N
 
 
 @dataclass(frozen=True)
@@ -173,8 +170,6 @@ class FrontQuery(Generic[N, B]):
 class PslOutputs(Generic[N, B]):
     psl_mps: N
     """The materialized PSL at the front."""
-    mrsp_mps: N
-    """The materialized MRSP (PSL with the restriction) at the front."""
 
 
 def psl_profiles(p: PslParams) -> tuple[Profile, Profile]:
@@ -182,15 +177,10 @@ def psl_profiles(p: PslParams) -> tuple[Profile, Profile]:
             Profile(p.ptsl_starts_m, p.ptsl_limits_mps, p.line_end_m))
 
 
-def psl_restriction(p: PslParams) -> Restriction:
-    return Restriction(p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps)
-
-
 def psl_step(o: Ops, p: PslParams, s: Stateless, i: FrontQuery):
     pisl, ptsl = psl_profiles(p)
     psl = permanent_speed_limit(o, pisl, ptsl, p.train_length_m)
-    mrsp = restricted(o, psl, (psl_restriction(p),), p.train_length_m)
-    return s, PslOutputs(psl_mps=value_at(o, psl, i.front_m), mrsp_mps=value_at(o, mrsp, i.front_m))
+    return s, PslOutputs(psl_mps=value_at(o, psl, i.front_m))
 
 
 PSL = Node(
@@ -204,8 +194,8 @@ PSL = Node(
     seed="002 §3.2",
     sizes={"pisl_starts_m": 3, "pisl_limits_mps": 3, "ptsl_starts_m": 2, "ptsl_limits_mps": 2},
 )
-"""The preprocessed MRSP as a node for proofs: up to 3 PISL segments, 2 PTSL segments and one
-temporary restriction, every breakpoint, limit and the train length symbolic."""
+"""The PSL as a node for proofs: up to 3 PISL and 2 PTSL segments, every breakpoint, limit and the
+train length symbolic."""
 
 
 @dataclass(frozen=True)
@@ -227,6 +217,7 @@ class UpdateParams(Generic[N, B]):
 
 @dataclass(frozen=True)
 class UpdateOutputs(Generic[N, B]):
+    psl_mps: N
     applied_incremental_mps: N
     applied_full_mps: N
     withdrawn_incremental_mps: N
@@ -249,6 +240,7 @@ def update_step(o: Ops, p: UpdateParams, s: Stateless, i: FrontQuery):
     applied = restricted(o, psl_window, (other, tsr), p.train_length_m)
     withdrawn = restricted(o, psl_window, (other,), p.train_length_m)
     return s, UpdateOutputs(
+        psl_mps=value_at(o, psl, i.front_m),
         applied_incremental_mps=spliced_value_at(o, without, applied, from_m, to_m, i.front_m),
         applied_full_mps=value_at(o, with_tsr, i.front_m),
         withdrawn_incremental_mps=spliced_value_at(o, with_tsr, withdrawn, from_m, to_m, i.front_m),

@@ -23,7 +23,6 @@ def _psl_data_ok(o, p, s, i):
         p.train_length_m >= o.const(0),
         *(is_well_formed(o, profile) for profile in profiles),
         *(v > o.const(0) for profile in profiles for v in profile.values),
-        _restriction_ok(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps, o.const(0)),
     )
 
 
@@ -40,13 +39,15 @@ def _update_data_ok(o, p, s, i):
 
 
 FRONT_ON_LINE = Assumption(
-    "front_on_line", "0 <= front < line end", lambda o, p, s, i: o.and_(o.const(0) <= i.front_m, i.front_m < p.line_end_m)
+    "front_on_line",
+    "0 <= front < line end",
+    lambda o, p, s, i: o.and_(o.const(0) <= i.front_m, i.front_m < p.line_end_m),
 )
 
 PSL_DATA = Assumption(
     "psl_data_well_formed",
     "PISL and PTSL start at 0, their breakpoints increase strictly up to the line end, their limits are "
-    "positive; the restriction lies on the line with a positive length and limit; the train length is >= 0",
+    "positive; the train length is >= 0",
     _psl_data_ok,
 )
 
@@ -59,18 +60,22 @@ UPDATE_DATA = Assumption(
 )
 
 
-def _tsr_profile(o, p) -> Profile:
-    """The restriction as a TISL profile of the line (no limit outside it: the highest limit around)."""
-    top = o.max(p.tsr_limit_mps, *p.pisl_limits_mps, *p.ptsl_limits_mps)
-    return Profile((o.const(0), p.tsr_start_m, p.tsr_end_m), (top, p.tsr_limit_mps, top), p.line_end_m)
-
-
 def _matches_definition(o, p, s, i, out, nxt):
     pisl, ptsl = psl_profiles(p)
-    return o.and_(
-        o.eq(out.psl_mps, lowest_under_train(o, (pisl, ptsl), p.train_length_m, i.front_m)),
-        o.eq(out.mrsp_mps, lowest_under_train(o, (pisl, ptsl, _tsr_profile(o, p)), p.train_length_m, i.front_m)),
-    )
+    return o.eq(out.psl_mps, lowest_under_train(o, (pisl, ptsl), p.train_length_m, i.front_m))
+
+
+def _as_profile(o, p, start_m, end_m, limit_mps) -> Profile:
+    """A restriction as a TISL profile of the line (no limit outside it: the highest limit around)."""
+    top = o.max(limit_mps, p.tsr_limit_mps, p.other_limit_mps, *p.psl_limits_mps)
+    return Profile((o.const(0), start_m, end_m), (top, limit_mps, top), p.line_end_m)
+
+
+def _restricted_matches_definition(o, p, s, i, out, nxt):
+    restrictions = (_as_profile(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps),
+                    _as_profile(o, p, p.other_start_m, p.other_end_m, p.other_limit_mps))
+    return o.eq(out.applied_full_mps,
+                o.min(out.psl_mps, lowest_under_train(o, restrictions, p.train_length_m, i.front_m)))
 
 
 def _filter_neutral(o, p, s, i, out, nxt):
@@ -82,20 +87,32 @@ def _filter_neutral(o, p, s, i, out, nxt):
 
 PROPERTIES = (
     Property(
-        name="mrsp.preprocessed_matches_definition",
+        name="mrsp.psl_matches_definition",
         requirement="MRSP-04",
-        seed="002 §3.2 (equations 1 and 2, Fig. 5)",
+        seed="002 §3.2 (equation 1, Fig. 5(a) to 5(d))",
         text=(
-            "The materialized PSL (filtered PISL and PTSL, extended by the train length, merged) and the MRSP "
-            "with a temporary restriction merged in equal, at every position, the lowest limit under the train."
+            "The materialized PSL (PISL with its short convex bumps filtered, and PTSL, each extended by the "
+            "train length, merged) equals at every position the lowest PISL or PTSL limit under the train."
         ),
         node=PSL,
         holds=_matches_definition,
         assumptions=(PSL_DATA, FRONT_ON_LINE),
     ),
     Property(
-        name="mrsp.bump_filter_neutral",
+        name="mrsp.restricted_matches_definition",
         requirement="MRSP-05",
+        seed="002 §3.2 (equation 2, Fig. 5(e), 5(f))",
+        text=(
+            "The materialized MRSP with two temporary restrictions merged into the PSL equals at every position "
+            "the lower of the PSL and the lowest restriction under the train."
+        ),
+        node=MRSP_UPDATE,
+        holds=_restricted_matches_definition,
+        assumptions=(UPDATE_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.bump_filter_neutral",
+        requirement="MRSP-06",
         seed="002 §3.2 (Fig. 4(d), 4(e))",
         text=(
             "Removing the convex bumps shorter than the train from PISL does not change the lowest PISL limit "
@@ -107,7 +124,7 @@ PROPERTIES = (
     ),
     Property(
         name="mrsp.incremental_equals_full",
-        requirement="MRSP-06",
+        requirement="MRSP-07",
         seed="002 §3.2",
         text=(
             "Applying or withdrawing a temporary restriction by recomputing only [start, end + L) from the PSL "

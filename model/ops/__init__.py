@@ -13,8 +13,8 @@ sort.
 
 from __future__ import annotations
 
-from fractions import Fraction
 from collections.abc import Sequence
+from fractions import Fraction
 from typing import Protocol, TypeVar
 
 N = TypeVar("N")
