@@ -55,6 +55,35 @@ class TestSharedSemantics:
             o.const("x")
 
 
+class TestSortByKey:
+    KEYS = (3, 1, 2, 1, 0, 3)
+    TAGS = ("a", "b", "c", "d", "e", "f")  # which input each key came from: ties keep their order
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_sorts_stably_and_permutes_columns_alike(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        keys = tuple(o.const(k) for k in self.KEYS)
+        positions = tuple(o.const(j) for j in range(len(keys)))
+        flags = tuple(o.const_bool(k == 1) for k in self.KEYS)
+        sorted_keys, sorted_positions, sorted_flags = o.sort_by_key(keys, positions, flags)
+        assert [read(k) for k in sorted_keys] == [0, 1, 1, 2, 3, 3]
+        assert [self.TAGS[int(read(j))] for j in sorted_positions] == ["e", "b", "d", "c", "a", "f"]
+        assert [read(f) for f in sorted_flags] == [False, True, True, False, False, False]
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_column_length_must_match(self, name):
+        o = backends()[name]
+        with pytest.raises(ValueError, match=r"columns\[1\] has 1 entries, keys has 2"):
+            o.sort_by_key((o.const(1), o.const(2)), (o.const(0), o.const(0)), (o.const(0),))
+
+    def test_float_batch_sorts_each_train(self):
+        keys = (np.array([2.0, 0.0]), 1.0, np.array([0.0, 5.0]))
+        sorted_keys, tags = FLOAT.sort_by_key(keys, ("x", "y", "z"))
+        assert np.stack(sorted_keys).T.tolist() == [[0.0, 1.0, 2.0], [0.0, 1.0, 5.0]]
+        assert np.stack(tags).T.tolist() == [["z", "y", "x"], ["x", "y", "z"]]
+
+
 class TestSymbolicRefusals:
     def setup_method(self):
         self.x, self.y = Real(z3.Real("x")), Real(z3.Real("y"))
