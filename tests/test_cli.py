@@ -166,6 +166,11 @@ class TestBench:
         out = capsys.readouterr().out
         assert "numpy batch" in out and "x" in out
 
+    def test_mrsp_benchmark_checks_agreement_and_prints_ratios(self, capsys):
+        assert main(["bench", "mrsp"]) == 0  # the benchmark asserts the four methods agree at every metre
+        out = capsys.readouterr().out
+        assert "incremental window update" in out and "per-metre arrays" in out and "/ incremental" in out
+
 
 def test_console_script_is_installed():
     script = Path(sys.executable).parent / "atcs"
