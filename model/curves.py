@@ -1,0 +1,235 @@
+"""Braking curves: EBD, EBI, SBI, warning, permitted and indication (seed 000 §2.4, 002 §3.2, DESIGN.md
+reference formulas in Subset-026 §3.13 style).
+
+A curve is handled as the *location* at which it reaches a given speed (the
+inverse query of the ERA braking-curves tool): supervision compares the train's
+front with the location of each curve at the train's speed, which needs no square
+root and no per-metre array. The EBD is found by walking backward from the target
+through the cells of (compensated gradient segment x emergency-brake speed step),
+integrating ``v^2/2`` with the safe deceleration ``A_safe(v, d) = K * A_brake(v) +
+A_gradient(d)``, ``K = Kdry * (Kwet + M_NVAVADH * (1 - Kwet))``. The other curves
+follow from the EBD:
+
+- ``V_bec = max(v + V_d0 + V_d1, V_target) + V_d2`` and ``D_bec = max(v + V_d0 + V_d1/2, V_target) * T_traction
+  + (max(v + V_d0 + V_d1, V_target) + V_d2/2) * T_berem``, with ``V_d0 = V_ura`` (0 when inhibited),
+  ``V_d1 = A_est1 * T_traction``, ``V_d2 = A_est2 * T_berem``, ``A_est1 = max(0, A_est)``,
+  ``A_est2 = clamp(A_est, 0, 0.4)``, ``T_berem = max(0, T_be - T_traction)``;
+- ``d_EBI(v) = d_EBD(V_bec) - D_bec``, ``d_SBI = d_EBI - v*T_bs``, warning ``= d_SBI - v*T_warning``,
+  permitted ``= d_SBI - v*T_driver``, indication ``= permitted - v*T_indication``.
+
+A curve that never constrains speed ``v`` (the target is at or above it) is at
+:data:`FAR_M`, ahead of any line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Generic
+
+from atcs.model.deceleration import gradient_deceleration_mps2
+from atcs.model.node import Node, Stateless, always
+from atcs.model.ops import B, N, Ops
+from atcs.model.profile import Profile
+from atcs.model.train_data import NationalData, TrainData, TrainDataError
+
+FAR_M = 10_000_000
+"""A location ahead of (or, negated, behind) any line: where a curve that does not constrain a speed lies."""
+HUGE_SPEED2 = 1_000_000
+"""A squared speed ((m/s)^2) above any train's: a walk bounded by position only."""
+MIN_SPAN = "0.001"
+"""Guard on divisors that valid data keeps far from zero (a speed span of the ceiling offsets, m/s; a
+safe deceleration, m/s^2): with data out of range the curves are meaningless but still computable,
+so the backends stay comparable on any input. Proofs assume data where the guard never acts."""
+A_EST2_CAP_MPS2 = "0.4"
+"""Subset-026's cap on the acceleration assumed during the brake build-up."""
+
+
+@dataclass(frozen=True)
+class Target(Generic[N]):
+    """A supervised location: the train must be at ``speed_mps`` or below from ``location_m`` on.
+    The EBD ends at ``ebd_foot_mps`` there (``V_target + dV_ebi(V_target)`` for a speed decrease, the
+    target speed itself for the end of authority)."""
+
+    location_m: N
+    speed_mps: N
+    ebd_foot_mps: N
+
+
+@dataclass(frozen=True)
+class CurveLocations(Generic[N]):
+    """Where each curve reaches a given speed: the train must be behind each location at that speed."""
+
+    ebd_m: N
+    ebi_m: N
+    sbi_m: N
+    warning_m: N
+    permitted_m: N
+    indication_m: N
+
+
+def ceiling_offset_mps(o: Ops, speed_mps, dv_min, dv_max, v_min, v_max):
+    """dV_ebi / dV_sbi / dV_warning at ``speed_mps``: ``dv_min`` up to ``v_min``, ``dv_max`` from
+    ``v_max``, linear in between."""
+    between = dv_min + (dv_max - dv_min) * (speed_mps - v_min) / o.max(v_max - v_min, o.const(MIN_SPAN))
+    return o.ite(speed_mps <= v_min, dv_min, o.ite(speed_mps >= v_max, dv_max, between))
+
+
+def adhesion_factor(o: Ops, t: TrainData, n: NationalData):
+    """``K = Kdry_rst * (Kwet_rst + M_NVAVADH * (1 - Kwet_rst))``."""
+    return t.kdry_rst * (t.kwet_rst + n.m_nvavadh * (o.const(1) - t.kwet_rst))
+
+
+def gradient_acceleration_mps2(o: Ops, t: TrainData, gradient_permille):
+    """``A_gradient`` (positive uphill: it helps braking), with M_rotating by the gradient's sign."""
+    mass = o.ite(gradient_permille >= o.const(0), t.rotating_mass_uphill_percent, t.rotating_mass_downhill_percent)
+    return gradient_deceleration_mps2(o, gradient_permille, mass)
+
+
+def check_braking_capability(t: TrainData, n: NationalData, gradient_c: Profile) -> None:
+    """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe`` is positive (above
+    :data:`MIN_SPAN`) in every cell of the walk: the train can stop on every gradient (concrete data)."""
+    from atcs.model.ops.exact import EXACT
+
+    k = adhesion_factor(EXACT, t, n)
+    for j, gradient in enumerate(gradient_c.values):
+        for step, a_brake in enumerate(t.emergency_decelerations_mps2):
+            a_safe = k * a_brake + gradient_acceleration_mps2(EXACT, t, gradient)
+            if not a_safe > EXACT.const(MIN_SPAN):
+                raise TrainDataError(
+                    f"train data: emergency_decelerations_mps2[{step}] = {a_brake!r} gives A_safe = "
+                    f"{float(a_safe):.3f} m/s^2 on gradient_permille[{j}] = {gradient!r}: the train cannot stop there"
+                )
+
+
+def braking_walk(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target_m, target_speed2,
+                 stop_m, stop_speed2):
+    """Walk backward from ``(target_m, target_speed2)`` along the EBD until the position reaches
+    ``stop_m`` or the squared speed reaches ``stop_speed2``: returns ``(position, squared speed)``.
+
+    Cells are visited from the target backward, speed steps upward in each
+    gradient segment (the speed only rises going backward). The first gradient
+    segment extends behind the profile's start. Needs ``A_safe > 0`` in every cell.
+    """
+    k = adhesion_factor(o, t, n)
+    speeds, decels = t.emergency_speeds_mps, t.emergency_decelerations_mps2
+    position, speed2 = target_m, target_speed2
+    starts = gradient_c.starts_m
+    for j in reversed(range(len(starts))):
+        low = stop_m if j == 0 else o.max(starts[j], stop_m)
+        a_gradient = gradient_acceleration_mps2(o, t, gradient_c.values[j])
+        for step, a_brake in enumerate(decels):
+            a_safe = k * a_brake + a_gradient
+            top2 = stop_speed2 if step + 1 == len(decels) else o.min(speeds[step + 1] * speeds[step + 1], stop_speed2)
+            needed_m = (top2 - speed2) / (o.const(2) * o.max(a_safe, o.const(MIN_SPAN)))
+            moved_m = o.max(o.const(0), o.min(needed_m, position - low))
+            position = position - moved_m
+            speed2 = speed2 + o.const(2) * a_safe * moved_m
+    return position, speed2
+
+
+def ebd_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, speed_mps):
+    """Where the EBD reaches ``speed_mps`` (FAR_M if it never exceeds it)."""
+    foot2 = target.ebd_foot_mps * target.ebd_foot_mps
+    position, _ = braking_walk(o, t, n, gradient_c, target.location_m, foot2, o.const(-FAR_M), speed_mps * speed_mps)
+    return o.ite(speed_mps <= target.ebd_foot_mps, o.const(FAR_M), position)
+
+
+def ebd_speed2_at(o: Ops, t, n, gradient_c: Profile, target: Target, x_m):
+    """The EBD's squared speed at ``x_m`` (the foot speed squared at and past the target)."""
+    foot2 = target.ebd_foot_mps * target.ebd_foot_mps
+    _, speed2 = braking_walk(o, t, n, gradient_c, target.location_m, foot2, x_m, o.const(HUGE_SPEED2))
+    return speed2
+
+
+def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2):
+    """``(V_bec, D_bec)``: the worst-case speed and distance until the emergency brake is effective."""
+    zero = o.const(0)
+    t_berem = o.max(zero, t.t_be_s - t.t_traction_s)
+    a_est1 = o.max(zero, a_est_mps2)
+    a_est2 = o.min(o.max(zero, a_est_mps2), o.const(A_EST2_CAP_MPS2))
+    v_d0 = o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)
+    v_d1 = a_est1 * t.t_traction_s
+    v_d2 = a_est2 * t_berem
+    v_cut = o.max(speed_mps + v_d0 + v_d1, target.speed_mps)
+    v_bec = v_cut + v_d2
+    d_bec = (o.max(speed_mps + v_d0 + v_d1 / o.const(2), target.speed_mps) * t.t_traction_s
+             + (v_cut + v_d2 / o.const(2)) * t_berem)
+    return v_bec, d_bec
+
+
+def curve_locations(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps,
+                    a_est_mps2) -> CurveLocations:
+    """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
+    v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
+    ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
+    sbi = ebi - speed_mps * t.t_bs_s
+    permitted = sbi - speed_mps * n.t_driver_s
+    return CurveLocations(
+        ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),
+        ebi_m=ebi,
+        sbi_m=sbi,
+        warning_m=sbi - speed_mps * n.t_warning_s,
+        permitted_m=permitted,
+        indication_m=permitted - speed_mps * n.t_indication_s,
+    )
+
+
+# --- the node the proofs quantify over ------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CurveParams(TrainData[N, B], NationalData[N, B]):
+    gradient_starts_m: tuple[N, ...]
+    """The compensated gradient profile ahead (per mille), as :func:`~atcs.model.psl.extend_by_train_length`
+    gives it."""
+    gradient_permille: tuple[N, ...]
+    line_end_m: N
+    target_m: N
+    target_speed_mps: N
+    target_ebd_foot_mps: N
+
+
+@dataclass(frozen=True)
+class CurveQuery(Generic[N, B]):
+    speed_mps: N
+    """The estimated (measured) speed."""
+    a_est_mps2: N
+    """The estimated acceleration."""
+    front_m: N
+    """The train's front (properties only)."""
+    true_speed_mps: N
+    """The true speed, within V_ura of the estimate (properties only)."""
+
+
+@dataclass(frozen=True)
+class CurveOutputs(CurveLocations[N], Generic[N, B]):
+    pass
+
+
+def curve_target(p: CurveParams) -> Target:
+    return Target(p.target_m, p.target_speed_mps, p.target_ebd_foot_mps)
+
+
+def curve_gradient(p: CurveParams) -> Profile:
+    return Profile(p.gradient_starts_m, p.gradient_permille, p.line_end_m)
+
+
+def curves_step(o: Ops, p: CurveParams, s: Stateless, i: CurveQuery):
+    locations = curve_locations(o, p, p, curve_gradient(p), curve_target(p), i.speed_mps, i.a_est_mps2)
+    return s, CurveOutputs(**{name: getattr(locations, name) for name in CurveLocations.__dataclass_fields__})
+
+
+CURVES = Node(
+    name="curves",
+    params=CurveParams,
+    state=Stateless,
+    inputs=CurveQuery,
+    outputs=CurveOutputs,
+    init=always,
+    step=curves_step,
+    seed="000 §2.4, 002 §3.2",
+    sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
+           "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1},
+)
+"""The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
+and the query speed and acceleration symbolic; train and national data as each property fixes them."""
