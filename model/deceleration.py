@@ -27,8 +27,10 @@ def braking_deceleration_mps2(o: Ops, speeds_mps: Sequence, decelerations_mps2: 
 
 
 def gradient_deceleration_mps2(o: Ops, gradient_permille, rotating_mass_percent):
-    """``Dec_grad = g * grad / (1000 + 10 * M_R)`` (negative downhill)."""
-    return o.const(GRAVITY_MPS2) * gradient_permille / (o.const(1000) + o.const(10) * rotating_mass_percent)
+    """``Dec_grad = g * grad / (1000 + 10 * M_R)`` (negative downhill). A negative ``M_R`` (invalid data)
+    counts as 0, so that the divisor stays positive on any input."""
+    mass = o.max(rotating_mass_percent, o.const(0))
+    return o.const(GRAVITY_MPS2) * gradient_permille / (o.const(1000) + o.const(10) * mass)
 
 
 def compensated_gradient_permille(o: Ops, gradient: Profile, train_length_m, front_m):
