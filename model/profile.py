@@ -41,7 +41,8 @@ class Profile(Generic[N]):
     end_m: N
 
 
-def _exact(field: str, what: str, raw) -> Fraction:
+def parse_number(field: str, what: str, raw) -> Fraction:
+    """``raw`` as an exact number, or a :class:`ProfileError` naming ``field``, ``what`` and the value."""
     if isinstance(raw, bool) or not isinstance(raw, (int, float, Fraction, str)):
         raise ProfileError(f"{field}: {what} = {raw!r} is not a number")
     if isinstance(raw, float) and not math.isfinite(raw):
@@ -59,8 +60,8 @@ def _segments(field: str, starts_m: Sequence, values: Sequence, end_m) -> tuple[
             f"{field}: needs one start per value and at least one segment, "
             f"got {len(starts_m)} starts and {len(values)} values"
         )
-    starts = [_exact(field, f"starts_m[{j}]", s) for j, s in enumerate(starts_m)]
-    end = _exact(field, "end_m", end_m)
+    starts = [parse_number(field, f"starts_m[{j}]", s) for j, s in enumerate(starts_m)]
+    end = parse_number(field, "end_m", end_m)
     for j in range(1, len(starts)):
         if starts[j] <= starts[j - 1]:
             raise ProfileError(
@@ -80,7 +81,7 @@ def speed_profile(field: str, starts_m: Sequence, limits_kmh: Sequence, end_m) -
     starts, end = _segments(field, starts_m, limits_kmh, end_m)
     limits = []
     for j, raw in enumerate(limits_kmh):
-        v = _exact(field, f"limits_kmh[{j}]", raw)
+        v = parse_number(field, f"limits_kmh[{j}]", raw)
         if not 0 < v <= MAX_SPEED_KMH:
             raise ProfileError(f"{field}: limits_kmh[{j}] = {raw!r} is outside (0, {MAX_SPEED_KMH}] km/h")
         limits.append(v / KMH_PER_MPS)
@@ -92,7 +93,7 @@ def gradient_profile(field: str, starts_m: Sequence, gradients_permille: Sequenc
     starts, end = _segments(field, starts_m, gradients_permille, end_m)
     grads = []
     for j, raw in enumerate(gradients_permille):
-        g = _exact(field, f"gradients_permille[{j}]", raw)
+        g = parse_number(field, f"gradients_permille[{j}]", raw)
         if not -MAX_GRADIENT_PERMILLE <= g <= MAX_GRADIENT_PERMILLE:
             raise ProfileError(
                 f"{field}: gradients_permille[{j}] = {raw!r} is outside "

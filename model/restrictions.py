@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from atcs.model.ops import Ops
 from atcs.model.ops.exact import EXACT
-from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, Profile, ProfileError, _exact
+from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, Profile, ProfileError, parse_number
 from atcs.model.psl import Restriction, affected_m, permanent_speed_limit, restricted, window
 
 
@@ -38,9 +38,9 @@ def canonical(profile: Profile) -> Profile:
 def restriction(field: str, start_m, end_m, limit_kmh, line_end_m) -> Restriction:
     """A validated temporary restriction on ``[start_m, end_m)`` of a line ending at ``line_end_m``,
     its limit given in km/h (stored in m/s)."""
-    start = _exact(field, "start_m", start_m)
-    end = _exact(field, "end_m", end_m)
-    limit = _exact(field, "limit_kmh", limit_kmh)
+    start = parse_number(field, "start_m", start_m)
+    end = parse_number(field, "end_m", end_m)
+    limit = parse_number(field, "limit_kmh", limit_kmh)
     if not 0 <= start < end <= line_end_m:
         raise ProfileError(
             f"{field}: [start_m, end_m) = [{start_m!r}, {end_m!r}) is not a non-empty part of the line "
