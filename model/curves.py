@@ -29,6 +29,7 @@ from typing import Generic
 from atcs.model.deceleration import gradient_deceleration_mps2
 from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
+from atcs.model.ops.exact import EXACT
 from atcs.model.profile import Profile
 from atcs.model.train_data import NationalData, TrainData, TrainDataError
 
@@ -88,8 +89,6 @@ def gradient_acceleration_mps2(o: Ops, t: TrainData, gradient_permille):
 def check_braking_capability(t: TrainData, n: NationalData, gradient_c: Profile) -> None:
     """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe`` is positive (above
     :data:`MIN_SPAN`) in every cell of the walk: the train can stop on every gradient (concrete data)."""
-    from atcs.model.ops.exact import EXACT
-
     k = adhesion_factor(EXACT, t, n)
     for j, gradient in enumerate(gradient_c.values):
         for step, a_brake in enumerate(t.emergency_decelerations_mps2):
