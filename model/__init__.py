@@ -4,13 +4,16 @@
 under every backend.
 """
 
+from atcs.model.closed_loop import CLOSED_LOOP
 from atcs.model.curves import CURVES
 from atcs.model.deceleration import DECELERATION
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
+from atcs.model.plant import PLANT
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.supervision import SUPERVISION
 
-NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES)}
+NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
+                                                         CLOSED_LOOP)}
 
 __all__ = ["NODES", "Node"]

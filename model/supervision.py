@@ -76,31 +76,48 @@ def supervision_init(o: Ops, p: SupervisionParams, s: SupervisionState):
     return o.and_(s.eb_latched, o.not_(s.sb_latched))
 
 
-def supervision_step(o: Ops, p: SupervisionParams, s: SupervisionState, i: SupervisionInputs):
-    """One ATP cycle of speed supervision: returns (next state, commands)."""
-    over_warning = i.speed_mps > i.warning_mps
-    over_sbi = i.speed_mps > i.sbi_mps
-    over_ebi = i.speed_mps > i.ebi_mps
-    over_permitted = i.speed_mps > i.permitted_mps
-    eb_released = o.and_(i.standstill, i.eb_release)
+@dataclass(frozen=True)
+class Exceedances(Generic[N, B]):
+    """Which supervision limits the train is over this cycle (a speed over a ceiling, or the front beyond a
+    braking curve's location for the measured speed: the same decision, seed 000 §2.4.3)."""
 
+    over_permitted: B
+    over_warning: B
+    over_sbi: B
+    over_ebi: B
+
+
+def supervise(o: Ops, p: SupervisionParams, s: SupervisionState, over: Exceedances, standstill, eb_release):
+    """The supervision decision from the limits exceeded: returns (next state, commands)."""
+    eb_released = o.and_(standstill, eb_release)
     emergency_brake = o.or_(
-        over_ebi,
-        o.and_(over_sbi, o.not_(p.service_brake_fitted)),
+        over.over_ebi,
+        o.and_(over.over_sbi, o.not_(p.service_brake_fitted)),
         o.and_(s.eb_latched, o.not_(eb_released)),
     )
     service_brake = o.and_(
         p.service_brake_fitted,
-        o.or_(over_sbi, o.and_(s.sb_latched, over_permitted)),
+        o.or_(over.over_sbi, o.and_(s.sb_latched, over.over_permitted)),
     )
     traction_cut = o.or_(emergency_brake, service_brake)
     outputs = SupervisionOutputs(
-        warning=over_warning,
+        warning=over.over_warning,
         service_brake=service_brake,
         emergency_brake=emergency_brake,
         traction_cut=traction_cut,
     )
     return SupervisionState(eb_latched=emergency_brake, sb_latched=service_brake), outputs
+
+
+def supervision_step(o: Ops, p: SupervisionParams, s: SupervisionState, i: SupervisionInputs):
+    """One ATP cycle of speed supervision against the limits at the current position."""
+    over = Exceedances(
+        over_permitted=i.speed_mps > i.permitted_mps,
+        over_warning=i.speed_mps > i.warning_mps,
+        over_sbi=i.speed_mps > i.sbi_mps,
+        over_ebi=i.speed_mps > i.ebi_mps,
+    )
+    return supervise(o, p, s, over, i.standstill, i.eb_release)
 
 
 SUPERVISION = Node(

@@ -73,11 +73,14 @@ def prove(
     timeout_s: float = 60.0,
     lemmas: dict[str, Property] | None = None,
     max_k: int | None = None,
+    proved: dict[str, Result] | None = None,
     _chain: tuple[str, ...] = (),
 ) -> Result:
     """Prove or falsify ``prop`` within ``timeout_s`` seconds (lemmas' proofs included).
 
-    ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry).
+    ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry). ``proved``
+    collects the lemma results of one run by name, so a lemma several properties share is proved once;
+    share it only between properties of the same registry, never across a mutated model.
     """
     if timeout_s <= 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
@@ -97,7 +100,12 @@ def prove(
                 return result("error", message=f"lemma {name!r} is not a known property")
             lemma = lemmas[name]
             check_lemma(prop, lemma)
-            sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas, _chain=(*_chain, prop.name))
+            sub = proved.get(name) if proved is not None else None
+            if sub is None:
+                sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas, proved=proved,
+                            _chain=(*_chain, prop.name))
+                if proved is not None:
+                    proved[name] = sub
             if sub.status != "proved":
                 status = "error" if sub.status in ("falsified", "error") else "unknown"
                 return result(status, message=f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))

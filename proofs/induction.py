@@ -7,6 +7,10 @@ unsatisfiable and BMC found no violation at depths 0 .. k-1, the property holds
 at every step of every run (k = 0 means it holds in every state and input that
 meets the assumptions).
 
+A property may split the step case by the last state before step k
+(``Property.cases``): each case is checked by its own solver call, and one more
+call covers the states in none of the cases, so the split never loses a state.
+
 Why the simple-path constraint is sound: a shortest run to a violation never
 visits a state twice (cutting the loop would give a shorter one), so its last
 k + 1 states are distinct.
@@ -14,16 +18,19 @@ k + 1 states are distinct.
 
 from __future__ import annotations
 
+import time
+
 import z3
 
-from atcs.proofs.bmc import Check, solve
+from atcs.model.ops.symbolic import SYMBOLIC, unwrap
+from atcs.proofs.bmc import Check, new_solver, solve
 from atcs.proofs.system import Unrolling
 
 
 class Induction:
     def __init__(self, unrolling: Unrolling):
         self.u = unrolling
-        self.solver = z3.Solver()
+        self.solver = new_solver()
         self.depth = -1
 
     def check(self, k: int, timeout_s: float) -> Check:
@@ -37,4 +44,13 @@ class Induction:
         for j in range(k):
             self.solver.add(self.u.distinct(j, k))
         self.depth = k
-        return solve(self.solver, z3.Not(f.prop), timeout_s)
+        if self.u.prop.cases is None:
+            return solve(self.solver, z3.Not(f.prop), timeout_s)
+        end = time.monotonic() + timeout_s
+        before = self.u.state(max(k - 1, 0))
+        cases = [unwrap(case) for case in self.u.prop.cases(SYMBOLIC, self.u.params, before)]
+        for case in (*cases, z3.Not(z3.Or(*cases))):
+            check = solve(self.solver, z3.And(z3.Not(f.prop), case), max(end - time.monotonic(), 0.001))
+            if check.result != "unsat":
+                return check
+        return Check("unsat")

@@ -17,6 +17,7 @@ import dataclasses
 import inspect
 import sys
 import textwrap
+import types
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
@@ -45,14 +46,23 @@ def mutate_function(fn: Callable, old: str, new: str) -> Callable:
     return namespace[fn.__name__]
 
 
-def mutant_node(node: Node, old: str, new: str, *, function: str = "step") -> Node:
-    """``node`` with its ``step`` (or ``init``) function mutated."""
-    return dataclasses.replace(node, **{function: mutate_function(getattr(node, function), old, new)})
+def mutant_node(node: Node, old: str, new: str, *, function: str = "step", helper: Callable | None = None) -> Node:
+    """``node`` with its ``step`` (or ``init``) function mutated; with ``helper``, the step keeps its source
+    but the helper it calls by name is the mutant (one call level deep)."""
+    real = getattr(node, function)
+    if helper is None:
+        return dataclasses.replace(node, **{function: mutate_function(real, old, new)})
+    if helper.__name__ not in real.__code__.co_names:
+        raise ValueError(f"{real.__module__}.{real.__qualname__} does not call {helper.__name__} by name")
+    namespace = {**real.__globals__, helper.__name__: mutate_function(helper, old, new)}
+    rebound = types.FunctionType(real.__code__, namespace, real.__name__, real.__defaults__, real.__closure__)
+    return dataclasses.replace(node, **{function: rebound})
 
 
-def mutant_property(prop: Property, old: str, new: str, *, function: str = "step") -> Property:
+def mutant_property(prop: Property, old: str, new: str, *, function: str = "step",
+                    helper: Callable | None = None) -> Property:
     """``prop`` about the mutated node."""
-    return dataclasses.replace(prop, node=mutant_node(prop.node, old, new, function=function))
+    return dataclasses.replace(prop, node=mutant_node(prop.node, old, new, function=function, helper=helper))
 
 
 @contextmanager

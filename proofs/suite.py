@@ -10,8 +10,15 @@ from atcs.proofs.engine import Result, prove
 from atcs.properties import PROPERTIES, Property
 
 
-def _prove_registered(name: str, timeout_s: float) -> Result:
-    return prove(PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES)
+_proved_in_this_worker: dict[str, Result] = {}
+"""Lemma results in a worker process (workers are spawned afresh for each run)."""
+
+
+def _prove_registered(name: str, timeout_s: float, proved: dict[str, Result] | None = None) -> Result:
+    proved = _proved_in_this_worker if proved is None else proved
+    result = proved.get(name) or prove(PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved)
+    proved[name] = result
+    return result
 
 
 def run(props: list[Property], *, timeout_s: float, jobs: int = 1,
@@ -20,9 +27,10 @@ def run(props: list[Property], *, timeout_s: float, jobs: int = 1,
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     if jobs == 1 or len(props) == 1:
+        proved: dict[str, Result] = {}
         for prop in props:
             on_start(prop)
-            yield _prove_registered(prop.name, timeout_s)
+            yield _prove_registered(prop.name, timeout_s, proved)
         return
     # spawn, not fork: z3 contexts must not be shared with a forked child
     with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:

@@ -51,6 +51,9 @@ class Property:
     """Parameters held at a fixed value in the proof; all others are symbolic."""
     max_k: int = 8
     """Deepest BMC / induction depth tried before giving up with ``unknown``."""
+    cases: Callable[..., Any] | None = None
+    """``cases(o, params, state) -> tuple of B``: split the inductive step by the state before the last step,
+    one solver call per case (the engine adds the rest of the state space as one more case)."""
 
     def __post_init__(self):
         if not _NAME.match(self.name):

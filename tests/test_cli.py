@@ -8,6 +8,7 @@ from pathlib import Path
 
 import pytest
 
+from atcs.model.supervision import supervise
 from atcs.proofs.cli import main
 from atcs.proofs.mutants import mutant_property
 from atcs.properties import PROPERTIES
@@ -18,8 +19,8 @@ LATCH = "supervision.eb_latched_until_standstill"
 @pytest.fixture
 def latch_mutant_registered(monkeypatch):
     """Register a mutant of the EB latch (releases without standstill) under a name of its own."""
-    mutant = mutant_property(PROPERTIES[LATCH], "eb_released = o.and_(i.standstill, i.eb_release)",
-                             "eb_released = i.eb_release")
+    mutant = mutant_property(PROPERTIES[LATCH], "eb_released = o.and_(standstill, eb_release)",
+                             "eb_released = eb_release", helper=supervise)
     import dataclasses
 
     mutant = dataclasses.replace(mutant, name="mutant.eb_latch_without_standstill")

@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
-from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
+from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState, supervise
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import mutant_property
 from atcs.proofs.trace import from_json, replay, reproduce, to_json
@@ -23,38 +23,48 @@ from atcs.sim.monitor import Monitor, PropertyViolation
 
 SUPERVISION_PROPERTIES = select("supervision.*")
 
-# property -> (text in supervision_step, its faulty replacement)
+# property -> (text in supervision_step or in the decision it calls, its faulty replacement[, that helper])
 MUTANTS = {
     "supervision.eb_above_ebi": (
-        "over_ebi = i.speed_mps > i.ebi_mps",
-        "over_ebi = i.speed_mps > i.ebi_mps + o.const(1)",
+        "over_ebi=i.speed_mps > i.ebi_mps",
+        "over_ebi=i.speed_mps > i.ebi_mps + o.const(1)",
     ),
     "supervision.eb_latched_until_standstill": (
-        "eb_released = o.and_(i.standstill, i.eb_release)",
-        "eb_released = i.eb_release",
+        "eb_released = o.and_(standstill, eb_release)",
+        "eb_released = eb_release",
+        supervise,
     ),
     "supervision.brake_above_sbi": (
-        "o.and_(over_sbi, o.not_(p.service_brake_fitted))",
-        "o.and_(over_sbi, o.const_bool(False))",
+        "o.and_(over.over_sbi, o.not_(p.service_brake_fitted))",
+        "o.and_(over.over_sbi, o.const_bool(False))",
+        supervise,
     ),
     "supervision.sb_held_above_permitted": (
-        "o.and_(s.sb_latched, over_permitted)",
-        "o.and_(s.sb_latched, over_warning)",
+        "o.and_(s.sb_latched, over.over_permitted)",
+        "o.and_(s.sb_latched, over.over_warning)",
+        supervise,
     ),
     "supervision.warning_above_warning_limit": (
-        "warning=over_warning",
-        "warning=o.and_(over_warning, o.not_(over_sbi))",
+        "warning=over.over_warning",
+        "warning=o.and_(over.over_warning, o.not_(over.over_sbi))",
+        supervise,
     ),
     "supervision.traction_cut_when_braking": (
         "traction_cut = o.or_(emergency_brake, service_brake)",
         "traction_cut = emergency_brake",
+        supervise,
     ),
     "supervision.no_intervention_below_permitted": (
-        "over_sbi = i.speed_mps > i.sbi_mps",
-        "over_sbi = i.speed_mps >= i.permitted_mps",
+        "over_sbi=i.speed_mps > i.sbi_mps",
+        "over_sbi=i.speed_mps >= i.permitted_mps",
     ),
-    "supervision.sb_only_if_fitted": ("        p.service_brake_fitted,\n", ""),
+    "supervision.sb_only_if_fitted": ("        p.service_brake_fitted,\n", "", supervise),
 }
+
+
+def make_mutant(name):
+    old, new, *helper = MUTANTS[name]
+    return mutant_property(PROPERTIES[name], old, new, helper=helper[0] if helper else None)
 
 
 def test_every_supervision_property_has_a_mutant():
@@ -78,7 +88,7 @@ class TestProved:
 class TestMutantsAreFalsified:
     @pytest.mark.parametrize("name", sorted(MUTANTS))
     def test_mutant_falsified_and_counterexample_replays(self, name, tmp_path):
-        mutant = mutant_property(PROPERTIES[name], *MUTANTS[name])
+        mutant = make_mutant(name)
         result = prove(mutant, timeout_s=120)
         assert result.status == "falsified", result.message
         assert result.engine == "bmc"
@@ -98,13 +108,13 @@ class TestMutantsAreFalsified:
 
     def test_sb_release_mutant_needs_two_steps(self):
         name = "supervision.sb_held_above_permitted"
-        result = prove(mutant_property(PROPERTIES[name], *MUTANTS[name]), timeout_s=120)
+        result = prove(make_mutant(name), timeout_s=120)
         assert result.status == "falsified" and result.k == 1
         assert result.trace.states[1]["sb_latched"] is True
 
     def test_brake_above_sbi_mutant_needs_no_service_brake(self):
         name = "supervision.brake_above_sbi"
-        result = prove(mutant_property(PROPERTIES[name], *MUTANTS[name]), timeout_s=120)
+        result = prove(make_mutant(name), timeout_s=120)
         assert result.trace.params == {"service_brake_fitted": False}
 
 
@@ -162,7 +172,7 @@ class TestMonitorCatchesMutants:
 
     def test_mutant_trips_the_monitor_on_its_counterexample(self):
         name = "supervision.eb_latched_until_standstill"
-        mutant = mutant_property(PROPERTIES[name], *MUTANTS[name])
+        mutant = make_mutant(name)
         trace = prove(mutant, timeout_s=120).trace
         monitor = Monitor(
             mutant.node, SupervisionParams(**trace.params),

@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from atcs.model.supervision import supervise
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import mutant_property
 from atcs.proofs.trace import ReplayError, TraceFileError, format_value, from_json, replay, reproduce, to_csv, to_json
@@ -17,8 +18,8 @@ NAME = "supervision.eb_latched_until_standstill"
 
 @pytest.fixture(scope="module")
 def falsified():
-    mutant = mutant_property(PROPERTIES[NAME], "eb_released = o.and_(i.standstill, i.eb_release)",
-                             "eb_released = i.eb_release")
+    mutant = mutant_property(PROPERTIES[NAME], "eb_released = o.and_(standstill, eb_release)",
+                             "eb_released = eb_release", helper=supervise)
     result = prove(mutant, timeout_s=120)
     assert result.status == "falsified"
     return mutant, result

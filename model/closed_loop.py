@@ -1,0 +1,146 @@
+"""The ATP in closed loop: supervision of the end of authority and the MRSP ceiling, composed with the
+braking curves and the plant (seed 000 §2.4 and §2.5; DESIGN.md, the closed-loop argument).
+
+Each cycle the ATP reads the measured front and speed, takes the max safe front
+(measured + ``position_error_m``), and compares it with the location of each curve of
+the end of authority (EoA, target speed 0) at the measured speed; it compares the
+measured speed with the ceilings MRSP + dV (:func:`~atcs.model.curves.ceiling_offset_mps`).
+The limits exceeded go to the foundation's supervision decision
+(:func:`~atcs.model.supervision.supervise`): EB latched until standstill and release,
+service brake, warning. The emergency-brake command then drives the plant.
+
+The EBI's estimated acceleration is the worst the plant allows (``A_max`` plus the
+steepest downhill's gradient acceleration): a measured ``A_est`` would need a bound on
+how fast the acceleration can rise, which the plant does not model. Train data's
+``T_traction`` and ``T_be`` count from the last cycle whose check passed, so they
+include one cycle more than the plant's delays after the command.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Generic
+
+from atcs.model.curves import Target, ceiling_offset_mps, curve_locations
+from atcs.model.node import Node
+from atcs.model.ops import B, N, Ops
+from atcs.model.plant import (
+    PlantParams,
+    PlantState,
+    max_gradient_acceleration_mps2,
+    plant_admits,
+    plant_gradient,
+    plant_init,
+    plant_next,
+)
+from atcs.model.supervision import (
+    Exceedances,
+    SupervisionOutputs,
+    SupervisionParams,
+    SupervisionState,
+    supervise,
+    supervision_init,
+)
+from atcs.model.train_data import NationalData, TrainData
+
+
+@dataclass(frozen=True)
+class ClosedLoopParams(PlantParams[N, B], TrainData[N, B], NationalData[N, B]):
+    service_brake_fitted: B
+    mrsp_mps: N
+    """The most restrictive speed profile over the horizon (one value: the closed loop's ceiling)."""
+    eoa_m: N
+    """The end of authority (target speed 0)."""
+    position_error_m: N
+    """The odometry's bound: the measured front is within this distance of the true front."""
+
+
+@dataclass(frozen=True)
+class ClosedLoopState(PlantState[N, B], SupervisionState[N, B]):
+    pass
+
+
+@dataclass(frozen=True)
+class ClosedLoopInputs(Generic[N, B]):
+    measured_front_m: N
+    measured_speed_mps: N
+    standstill: B
+    eb_release: B
+    next_speed_mps: N
+    """The plant's choice (see :mod:`atcs.model.plant`)."""
+    distance_m: N
+    """The plant's choice (see :mod:`atcs.model.plant`)."""
+
+
+@dataclass(frozen=True)
+class ClosedLoopOutputs(SupervisionOutputs[N, B]):
+    ebi_m: N
+    """Where the EoA's EBI lies at the measured speed."""
+
+
+def worst_acceleration_mps2(o: Ops, p: ClosedLoopParams):
+    """The EBI's estimated acceleration: the most the plant can accelerate under traction."""
+    return p.max_acceleration_mps2 + max_gradient_acceleration_mps2(o, p)
+
+
+def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    """One ATP cycle: returns (next supervision state, commands)."""
+    front = i.measured_front_m + p.position_error_m
+    speed = i.measured_speed_mps
+    zero = o.const(0)
+    target = Target(p.eoa_m, zero, zero)
+    curve = curve_locations(o, p, p, plant_gradient(p), target, speed, worst_acceleration_mps2(o, p))
+
+    def ceiling(dv_min, dv_max, v_min, v_max):
+        return p.mrsp_mps + ceiling_offset_mps(o, p.mrsp_mps, dv_min, dv_max, v_min, v_max)
+
+    over = Exceedances(
+        over_permitted=o.or_(front > curve.permitted_m, speed > p.mrsp_mps),
+        over_warning=o.or_(front > curve.warning_m, speed > ceiling(
+            p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps, p.v_warning_max_mps)),
+        over_sbi=o.or_(front > curve.sbi_m, speed > ceiling(
+            p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)),
+        over_ebi=o.or_(front > curve.ebi_m, speed > ceiling(
+            p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)),
+    )
+    state, commands = supervise(o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release)
+    return state, commands, curve
+
+
+def closed_loop_init(o: Ops, p: ClosedLoopParams, s: ClosedLoopState):
+    """Power-up at standstill behind the EoA with the emergency brake applied."""
+    return o.and_(supervision_init(o, p, s), plant_init(o, p, s), s.front_m <= p.eoa_m)
+
+
+def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    atp, commands, curve = atp_cycle(o, p, s, i)
+    plant = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
+    state = ClosedLoopState(
+        front_m=plant.front_m, speed_mps=plant.speed_mps, brake_cycles=plant.brake_cycles,
+        eb_latched=atp.eb_latched, sb_latched=atp.sb_latched,
+    )
+    return state, ClosedLoopOutputs(
+        warning=commands.warning, service_brake=commands.service_brake, emergency_brake=commands.emergency_brake,
+        traction_cut=commands.traction_cut, ebi_m=curve.ebi_m,
+    )
+
+
+def closed_loop_admits(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    """The plant's bounds for this cycle's motion, under the command the ATP gives."""
+    _, commands, _ = atp_cycle(o, p, s, i)
+    return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
+
+
+CLOSED_LOOP = Node(
+    name="closed_loop",
+    params=ClosedLoopParams,
+    state=ClosedLoopState,
+    inputs=ClosedLoopInputs,
+    outputs=ClosedLoopOutputs,
+    init=closed_loop_init,
+    step=closed_loop_step,
+    seed="000 §2.4, §2.5",
+    sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
+           "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1},
+)
+"""ATP + plant for proofs: 2 compensated-gradient segments, one-step brake tables."""

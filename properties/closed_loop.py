@@ -1,0 +1,242 @@
+"""The closed-loop theorem (seed 000 §2.4, §2.5; DESIGN.md, the closed-loop argument in discrete time).
+
+Over :data:`~atcs.model.closed_loop.CLOSED_LOOP`: for any driver or ATO command
+(any motion the plant admits), any measurement within its error bounds, any end of
+authority, MRSP ceiling, odometry error and 2-segment compensated gradient profile
+(breakpoints symbolic, values fixed to the design case -40 / +40 per mille), with the
+train, national and plant data of a seed preset, the true front never passes the EoA
+and the true speed never exceeds the MRSP + dV_ebi by more than the EBI's own margin.
+
+Proved by k-induction with a braking invariant (``closed_loop.braking_invariant``,
+proved first and then assumed): with ``c`` cycles of EB command so far, the train's
+worst-case state when the brake becomes effective (full traction until the cut-off,
+then coasting downhill) is behind the EBD for its speed; once the brake is effective,
+the true speed is under the EBD at the true front. One case per value of ``c``, so
+every case is polynomial of degree 2 in the state.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from atcs.model.closed_loop import CLOSED_LOOP, closed_loop_admits, worst_acceleration_mps2
+from atcs.model.curves import (
+    A_EST2_CAP_MPS2,
+    Target,
+    adhesion_factor,
+    ceiling_offset_mps,
+    ebd_location_m,
+    ebd_speed2_at,
+)
+from atcs.model.node import as_dict
+from atcs.model.ops.exact import EXACT
+from atcs.model.plant import max_gradient_acceleration_mps2, plant_gradient
+from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
+from atcs.model.train_data import seed000_train, seed002_national, seed002_train, subset026_national
+from atcs.properties.curves import DESIGN_GRADIENTS_PERMILLE, MAX_LINE_M
+from atcs.properties.property import Assumption, Property
+
+CYCLE_S = Fraction(1, 10)
+"""One ATP cycle (seed 001)."""
+
+
+def _preset(train, national) -> dict:
+    """Train, national and plant data: the plant's delays are the train data's times less one cycle (the
+    cycle in which the last passing check was made), its guaranteed deceleration is K * A_brake_emergency."""
+    data = {**as_dict(train), **as_dict(national)}
+    k = adhesion_factor(EXACT, train, national)
+    return {
+        **data,
+        "gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE),
+        "service_brake_fitted": True,
+        "cycle_s": CYCLE_S,
+        "traction_cut_cycles": train.t_traction_s / CYCLE_S - 1,
+        "brake_build_up_cycles": train.t_be_s / CYCLE_S - 1,
+        "guaranteed_deceleration_mps2": k * min(train.emergency_decelerations_mps2),
+        "max_deceleration_mps2": Fraction(3),
+    }
+
+
+PRESETS = {
+    "seed000": _preset(seed000_train(), subset026_national()),
+    "seed002": _preset(seed002_train(), seed002_national()),
+}
+
+
+def _setting(o, p, s, i):
+    g = plant_gradient(p)
+    zero = o.const(0)
+    return o.and_(
+        is_well_formed(o, g),
+        zero <= p.eoa_m, p.eoa_m <= p.line_end_m, p.line_end_m <= o.const(MAX_LINE_M),
+        zero <= p.mrsp_mps, p.mrsp_mps <= o.const(Fraction(MAX_SPEED_KMH) / KMH_PER_MPS),
+        p.position_error_m >= zero,
+    )
+
+
+SETTING = Assumption(
+    "setting",
+    f"the compensated gradient profile is well formed, the EoA lies on a line of at most {MAX_LINE_M} m, the MRSP "
+    f"is within [0, {MAX_SPEED_KMH}] km/h, the odometry error bound is >= 0",
+    _setting,
+)
+
+
+def _timing(o, p, s, i):
+    dt = p.cycle_s
+    return o.and_(
+        dt > o.const(0),
+        o.const(0) <= p.traction_cut_cycles, p.traction_cut_cycles <= p.brake_build_up_cycles,
+        (p.traction_cut_cycles + o.const(1)) * dt <= p.t_traction_s,
+        (p.brake_build_up_cycles + o.const(1)) * dt <= p.t_be_s,
+        p.guaranteed_deceleration_mps2 >= adhesion_factor(o, p, p) * p.emergency_decelerations_mps2[0],
+        max_gradient_acceleration_mps2(o, p) <= o.const(A_EST2_CAP_MPS2),
+    )
+
+
+TIMING = Assumption(
+    "timing",
+    "the plant cuts traction and makes the brake effective within T_traction and T_be of the last passing check "
+    "(one cycle before the command), brakes at least K * A_brake_emergency, and accelerates downhill by at most "
+    "Subset-026's A_est2 cap (0.4 m/s^2: gradients down to about -41 per mille)",
+    _timing,
+)
+
+
+def _measurement(o, p, s, i):
+    return o.and_(
+        i.measured_front_m - s.front_m <= p.position_error_m, s.front_m - i.measured_front_m <= p.position_error_m,
+        i.measured_speed_mps >= o.const(0),
+        i.measured_speed_mps - s.speed_mps <= p.v_ura_mps, s.speed_mps - i.measured_speed_mps <= p.v_ura_mps,
+        o.implies(i.standstill, o.eq(s.speed_mps, o.const(0))),
+    )
+
+
+MEASUREMENT = Assumption(
+    "measurement",
+    "the measured front is within the odometry bound of the true front, the measured speed (>= 0) within V_ura "
+    "of the true speed; standstill is reported only at standstill",
+    _measurement,
+)
+
+PLANT = Assumption(
+    "plant",
+    "each cycle's motion is within the plant's bounds (model/plant.py) under the ATP's emergency-brake command",
+    closed_loop_admits,
+)
+
+ASSUMPTIONS = (SETTING, TIMING, MEASUREMENT, PLANT)
+
+
+def worst_case_at_brake(o, p, front_m, speed_mps, cycles: int, traction_cycles: int, build_up_cycles: int):
+    """The farthest front and highest speed when the brake becomes effective, from ``(front_m, speed_mps)``
+    with the command given for ``cycles`` cycles so far: full traction until the cut-off, then coasting."""
+    dt = p.cycle_s
+    a_traction = worst_acceleration_mps2(o, p)
+    a_coast = max_gradient_acceleration_mps2(o, p)
+    t1 = o.const(max(0, traction_cycles - cycles)) * dt
+    t2 = o.const(build_up_cycles - max(cycles, traction_cycles)) * dt
+    v1 = speed_mps + a_traction * t1
+    front1 = front_m + (speed_mps + v1) / o.const(2) * t1
+    v2 = v1 + a_coast * t2
+    return front1 + (v1 + v2) / o.const(2) * t2, v2
+
+
+def ceiling_margin_mps(o, p, cycles: int, traction_cycles: int):
+    """How far the true speed can be over the EBI ceiling after ``cycles`` cycles of EB command: V_ura and
+    the acceleration since the last passing check."""
+    dt = p.cycle_s
+    return (p.v_ura_mps + worst_acceleration_mps2(o, p) * dt * o.const(min(cycles, traction_cycles) + 1)
+            + max_gradient_acceleration_mps2(o, p) * dt * o.const(max(0, cycles - traction_cycles)))
+
+
+def ebi_ceiling_mps(o, p):
+    return p.mrsp_mps + ceiling_offset_mps(o, p.mrsp_mps, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps,
+                                           p.v_ebi_max_mps)
+
+
+def _properties(preset: str):
+    fixed = PRESETS[preset]
+    n_t, n_be = int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])
+
+    def braking_invariant(o, p, s, i, out, nxt):
+        zero = o.const(0)
+        target = Target(p.eoa_m, zero, zero)
+        gradient = plant_gradient(p)
+        cases = []
+        for c in range(n_be):
+            front, speed = worst_case_at_brake(o, p, s.front_m, s.speed_mps, c, n_t, n_be)
+            cases.append(o.and_(
+                o.eq(s.brake_cycles, o.const(c)),
+                front <= p.eoa_m, front <= ebd_location_m(o, p, p, gradient, target, speed),
+                s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, c, n_t),
+            ))
+        braking = o.and_(
+            o.eq(s.brake_cycles, o.const(n_be)), s.eb_latched,
+            s.front_m <= p.eoa_m, s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
+            s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, n_be, n_t),
+        )
+        return o.and_(s.speed_mps >= zero, o.or_(*cases, braking))
+
+    def by_brake_cycles(o, p, s):
+        return tuple(o.eq(s.brake_cycles, o.const(c)) for c in range(n_be + 1))
+
+    common = dict(node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed, cases=by_brake_cycles)
+    invariant = f"closed_loop.braking_invariant_{preset}"
+    return (
+        Property(
+            name=invariant,
+            requirement="CL-00",
+            seed="000 §2.4; DESIGN.md closed loop",
+            text=(
+                f"{preset}: with c cycles of EB command so far (c < the build-up), the worst-case state when the "
+                "brake becomes effective is behind the EoA and behind the EBD for its speed, and the speed is "
+                "within the ceiling margin for c; with the brake effective, the true speed is under the EBD "
+                "at the true front."
+            ),
+            holds=braking_invariant,
+            **common,
+        ),
+        Property(
+            name=f"closed_loop.no_overrun_{preset}",
+            requirement="CL-01",
+            seed="000 §2.4, §2.5",
+            text=(
+                f"{preset}: whatever the driver or ATO commands, the true front never passes the end of "
+                "authority (measured speed within V_ura, measured front within the odometry bound)."
+            ),
+            holds=lambda o, p, s, i, out, nxt: s.front_m <= p.eoa_m,
+            lemmas=(invariant,),
+            **common,
+        ),
+        Property(
+            name=f"closed_loop.under_ceiling_{preset}",
+            requirement="CL-02",
+            seed="000 §2.4.2, 002 §3.2",
+            text=(
+                f"{preset}: the true speed never exceeds MRSP + dV_ebi by more than V_ura + A_est1 * T_traction "
+                "+ A_est2 * (T_be - T_traction) (the EBI's own margin, with the worst-case acceleration)."
+            ),
+            holds=lambda o, p, s, i, out, nxt: s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(
+                o, p, n_be, n_t),
+            lemmas=(invariant,),
+            **common,
+        ),
+        Property(
+            name=f"closed_loop.eb_at_ebi_{preset}",
+            requirement="CL-03",
+            seed="000 §2.4.3",
+            text=(
+                f"{preset}: supervision composed with the curves commands EB in the cycle the max safe front "
+                "is beyond the EBI for the measured speed (the measured speed crosses the EBI)."
+            ),
+            holds=lambda o, p, s, i, out, nxt: o.implies(
+                i.measured_front_m + p.position_error_m > out.ebi_m, out.emergency_brake),
+            **common,
+        ),
+    )
+
+
+PROPERTIES = (*_properties("seed000"), *_properties("seed002"))
+
+__all__ = ["PROPERTIES"]
