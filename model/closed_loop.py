@@ -21,13 +21,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.curves import Target, ceiling_offset_mps, curve_locations
+from atcs.model.curves import Target, ceiling_offset_mps, curve_locations, gradient_acceleration_mps2
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import (
     PlantParams,
     PlantState,
-    max_gradient_acceleration_mps2,
     plant_admits,
     plant_gradient,
     plant_init,
@@ -79,8 +78,10 @@ class ClosedLoopOutputs(SupervisionOutputs[N, B]):
 
 
 def worst_acceleration_mps2(o: Ops, p: ClosedLoopParams):
-    """The EBI's estimated acceleration: the most the plant can accelerate under traction."""
-    return p.max_acceleration_mps2 + max_gradient_acceleration_mps2(o, p)
+    """The EBI's estimated acceleration: the most the train can accelerate under traction (A_max plus the
+    steepest downhill's gradient acceleration)."""
+    downhill = (-gradient_acceleration_mps2(o, p, g) for g in p.gradient_permille)
+    return p.max_acceleration_mps2 + o.max(o.const(0), *downhill)
 
 
 def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):

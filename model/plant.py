@@ -28,7 +28,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.curves import gradient_acceleration_mps2
+from atcs.model.deceleration import gradient_deceleration_mps2
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile
@@ -87,9 +87,17 @@ def plant_gradient(p: PlantParams) -> Profile:
     return Profile(p.gradient_starts_m, p.gradient_permille, p.line_end_m)
 
 
+def gradient_braking_mps2(o: Ops, p: PlantParams, gradient_permille):
+    """The gradient's share of the deceleration (seed 000 §2.3), computed here from the physics, apart from the
+    ATP's braking curves, so a fault in those is not mirrored in the plant."""
+    uphill = gradient_permille >= o.const(0)
+    mass = o.ite(uphill, p.rotating_mass_uphill_percent, p.rotating_mass_downhill_percent)
+    return gradient_deceleration_mps2(o, gradient_permille, mass)
+
+
 def max_gradient_acceleration_mps2(o: Ops, p: PlantParams):
     """The steepest downhill's acceleration (0 if the line has none)."""
-    return o.max(o.const(0), *(-gradient_acceleration_mps2(o, p, g) for g in p.gradient_permille))
+    return o.max(o.const(0), *(-gradient_braking_mps2(o, p, g) for g in p.gradient_permille))
 
 
 def braking_work(o: Ops, p: PlantParams, from_m, to_m):
@@ -99,7 +107,7 @@ def braking_work(o: Ops, p: PlantParams, from_m, to_m):
     for j, start in enumerate(g.starts_m):
         low = from_m if j == 0 else o.max(from_m, start)
         high = to_m if j + 1 == len(g.starts_m) else o.min(to_m, g.starts_m[j + 1])
-        work = work + gradient_acceleration_mps2(o, p, g.values[j]) * o.max(o.const(0), high - low)
+        work = work + gradient_braking_mps2(o, p, g.values[j]) * o.max(o.const(0), high - low)
     return work
 
 

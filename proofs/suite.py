@@ -9,7 +9,6 @@ from concurrent.futures import ProcessPoolExecutor, as_completed
 from atcs.proofs.engine import Result, prove
 from atcs.properties import PROPERTIES, Property
 
-
 _proved_in_this_worker: dict[str, Result] = {}
 """Lemma results in a worker process (workers are spawned afresh for each run)."""
 

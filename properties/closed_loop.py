@@ -40,7 +40,7 @@ CYCLE_S = Fraction(1, 10)
 """One ATP cycle (seed 001)."""
 
 
-def _preset(train, national) -> dict:
+def preset_data(train, national, cycle_s=CYCLE_S) -> dict:
     """Train, national and plant data: the plant's delays are the train data's times less one cycle (the
     cycle in which the last passing check was made), its guaranteed deceleration is K * A_brake_emergency."""
     data = {**as_dict(train), **as_dict(national)}
@@ -49,17 +49,17 @@ def _preset(train, national) -> dict:
         **data,
         "gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE),
         "service_brake_fitted": True,
-        "cycle_s": CYCLE_S,
-        "traction_cut_cycles": train.t_traction_s / CYCLE_S - 1,
-        "brake_build_up_cycles": train.t_be_s / CYCLE_S - 1,
+        "cycle_s": cycle_s,
+        "traction_cut_cycles": train.t_traction_s / cycle_s - 1,
+        "brake_build_up_cycles": train.t_be_s / cycle_s - 1,
         "guaranteed_deceleration_mps2": k * min(train.emergency_decelerations_mps2),
         "max_deceleration_mps2": Fraction(3),
     }
 
 
 PRESETS = {
-    "seed000": _preset(seed000_train(), subset026_national()),
-    "seed002": _preset(seed002_train(), seed002_national()),
+    "seed000": preset_data(seed000_train(), subset026_national()),
+    "seed002": preset_data(seed002_train(), seed002_national()),
 }
 
 
@@ -155,8 +155,11 @@ def ebi_ceiling_mps(o, p):
                                            p.v_ebi_max_mps)
 
 
-def _properties(preset: str):
-    fixed = PRESETS[preset]
+def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
+    """The four closed-loop properties for one set of fixed data (:func:`preset_data`), named ``*_<preset>``."""
+    for name in ("traction_cut_cycles", "brake_build_up_cycles"):
+        if Fraction(fixed[name]).denominator != 1:
+            raise ValueError(f"closed-loop preset {preset}: {name} = {fixed[name]} is not a whole number of cycles")
     n_t, n_be = int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])
 
     def braking_invariant(o, p, s, i, out, nxt):
@@ -237,6 +240,6 @@ def _properties(preset: str):
     )
 
 
-PROPERTIES = (*_properties("seed000"), *_properties("seed002"))
+PROPERTIES = tuple(p for name, fixed in PRESETS.items() for p in closed_loop_properties(name, fixed))
 
 __all__ = ["PROPERTIES"]

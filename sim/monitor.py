@@ -50,6 +50,10 @@ class Monitor:
             raise ValueError(f"node {self.node.name!r}: {self.state} is not an initial state")
         self._active = {p.name: True for p in self.properties}
 
+    def applies(self, name: str) -> bool:
+        """Property ``name``'s assumptions have held at every step so far (so it has been checked at each)."""
+        return _all(self._active[name])
+
     def step(self, inputs):
         """Run one cycle; return the outputs, or raise :class:`PropertyViolation`."""
         o, p, s = self.ops, self.params, self.state

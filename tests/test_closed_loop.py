@@ -1,0 +1,160 @@
+"""The closed-loop theorem (seed 000 §2.4, §2.5): proved for the seed presets, falsified on mutants of the
+ATP (each counterexample replays), and a worst-case driver in simulation stops before the EoA.
+
+The mutants run on a coarse-cycle variant of seed 000 (0.8 s cycles, T_be 1.6 s), itself
+proved first: fewer cycles between the EB command and the brake, so a counterexample
+from standstill is a few steps deep. The issue's three named faults (EBI without the
+build-up time, the gradient's sign flipped, the speed-measurement inaccuracy ignored) are
+among them; each is falsified by BMC within five steps.
+"""
+
+import dataclasses
+from fractions import Fraction
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from atcs.model import closed_loop, curves
+from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopInputs, ClosedLoopParams, ClosedLoopState
+from atcs.model.ops.exact import EXACT
+from atcs.model.plant import brake_effective, max_gradient_acceleration_mps2, traction_available
+from atcs.model.train_data import seed000_train, subset026_national
+from atcs.proofs.engine import prove
+from atcs.proofs.mutants import patched
+from atcs.proofs.trace import replay, reproduce
+from atcs.properties import PROPERTIES, select
+from atcs.properties.closed_loop import PRESETS, closed_loop_properties, preset_data
+from atcs.sim.monitor import Monitor
+
+CLOSED_LOOP_PROPERTIES = select("closed_loop.*")
+
+COARSE = {p.name: p for p in closed_loop_properties("coarse", {
+    **preset_data(dataclasses.replace(seed000_train(), t_be_s=Fraction(8, 5)), subset026_national(),
+                  cycle_s=Fraction(4, 5)),
+})}
+
+
+def _kind(name):
+    return name.removeprefix("closed_loop.").rsplit("_", 1)[0]
+
+
+# property kind -> mutants (function, text in it, faulty replacement)
+MUTANTS = {
+    "braking_invariant": [
+        # the max safe front taken without the odometry error
+        (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m"),
+    ],
+    "no_overrun": [
+        # the max safe front taken without the odometry error
+        (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m"),
+        # EB at the EBD instead of the EBI
+        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m,", "over_ebi=o.or_(front > curve.ebd_m,"),
+        # EBI without the speed gained during the brake build-up time
+        (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),
+        # the gradient's sign flipped: a downhill taken as helping the brake
+        (curves.gradient_acceleration_mps2, "gradient_deceleration_mps2(o, gradient_permille, mass)",
+         "-gradient_deceleration_mps2(o, gradient_permille, mass)"),
+        # the speed-measurement inaccuracy V_ura ignored
+        (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
+    ],
+    "under_ceiling": [
+        # no EB ceiling: only the braking curves supervised
+        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m, speed > ceiling(",
+         "over_ebi=o.or_(front > curve.ebi_m, speed > o.const(1000) + ceiling("),
+    ],
+    "eb_at_ebi": [
+        # EB at the EBD instead of the EBI
+        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m,", "over_ebi=o.or_(front > curve.ebd_m,"),
+    ],
+}
+
+
+def test_every_closed_loop_property_has_a_mutant():
+    assert {_kind(p.name) for p in CLOSED_LOOP_PROPERTIES} == set(MUTANTS)
+
+
+@pytest.fixture(scope="module")
+def proved_results():
+    """All closed-loop properties of the presets and of the coarse variant, the lemma proved once each."""
+    registry = {**PROPERTIES, **COARSE}
+    shared = {}
+    results = {}
+    for prop in (*CLOSED_LOOP_PROPERTIES, *COARSE.values()):
+        results[prop.name] = shared.get(prop.name) or prove(prop, timeout_s=300, lemmas=registry, proved=shared)
+    return results
+
+
+@pytest.mark.parametrize("name", [*(p.name for p in CLOSED_LOOP_PROPERTIES), *COARSE], ids=str)
+def test_proved(proved_results, name):
+    result = proved_results[name]
+    assert (result.status, result.engine) == ("proved", "k-induction"), result.message
+
+
+@pytest.mark.parametrize(
+    ("name", "mutant"),
+    [(name, m) for name in COARSE for m in MUTANTS[_kind(name)]],
+    ids=lambda v: v if isinstance(v, str) else v[1][:40],
+)
+def test_mutant_falsified_and_counterexample_replays(name, mutant):
+    # without the lemma: the mutant's invariant does not hold, so only BMC can speak
+    prop = dataclasses.replace(COARSE[name], lemmas=())
+    function, old, new = mutant
+    with patched(function, old, new):
+        result = prove(prop, timeout_s=300, max_k=12)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    real = replay(prop, result.trace)
+    assert real.problems or real.first_violation is None, "the real model must not fail on the mutant's run"
+
+
+# --- simulation: the same step function and predicates on concrete numbers ------------------------
+
+
+def _worst_case_driver(p: ClosedLoopParams, s: ClosedLoopState, emergency_brake):
+    """Full traction (and the steepest downhill's help) whenever the plant allows it; once the brake is
+    effective, a constant deceleration: the guaranteed one plus the strongest gradient help (admissible)."""
+    o, dt = EXACT, p.cycle_s
+    v = s.speed_mps
+    if brake_effective(o, p, s, emergency_brake):
+        decel = p.guaranteed_deceleration_mps2 + max(
+            curves.gradient_acceleration_mps2(o, p, g) for g in p.gradient_permille)
+        if v <= decel * dt:
+            return Fraction(0), v * v / (2 * decel)
+        return v - decel * dt, v * dt - decel * dt * dt / 2
+    a = max_gradient_acceleration_mps2(o, p)
+    if traction_available(o, p, s, emergency_brake):
+        a += p.max_acceleration_mps2
+    return v + a * dt, v * dt + a * dt * dt / 2
+
+
+@settings(max_examples=10)
+@given(eoa_m=st.integers(300, 2000), breakpoint_m=st.integers(1, 1999), noise=st.randoms(use_true_random=False))
+def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
+    fixed = PRESETS["seed000"]
+    params = ClosedLoopParams(**{
+        **fixed, "gradient_starts_m": (Fraction(0), Fraction(breakpoint_m)), "line_end_m": Fraction(2000),
+        "mrsp_mps": Fraction(80) / Fraction("3.6"), "eoa_m": Fraction(eoa_m), "position_error_m": Fraction(5),
+    })
+    start = ClosedLoopState(eb_latched=True, sb_latched=False, front_m=Fraction(0), speed_mps=Fraction(0),
+                            brake_cycles=fixed["brake_build_up_cycles"])
+    props = tuple(p for p in CLOSED_LOOP_PROPERTIES if p.name.endswith("_seed000"))
+    monitor = Monitor(CLOSED_LOOP, params, start, props, ops=EXACT)
+    eb_cycles, s = 0, start
+    for _ in range(1200):
+        s = monitor.state
+        error_m = Fraction(noise.randint(-50, 50), 10)
+        error_mps = params.v_ura_mps * Fraction(noise.randint(-10, 10), 10)
+        measured = ClosedLoopInputs(
+            measured_front_m=s.front_m + error_m, measured_speed_mps=max(Fraction(0), s.speed_mps + error_mps),
+            standstill=s.speed_mps == 0, eb_release=s.speed_mps == 0 and eb_cycles == 0,
+            next_speed_mps=Fraction(0), distance_m=Fraction(0))
+        _, commands, _ = closed_loop.atp_cycle(EXACT, params, s, measured)
+        eb_cycles += commands.emergency_brake
+        next_speed, distance = _worst_case_driver(params, s, commands.emergency_brake)
+        monitor.step(dataclasses.replace(measured, next_speed_mps=next_speed, distance_m=distance))
+        if eb_cycles and monitor.state.speed_mps == 0:
+            break
+    assert all(monitor.applies(p.name) for p in props), "the run left the assumptions: it checked nothing"
+    assert eb_cycles > 0 and monitor.state.speed_mps == 0, "the train must have been stopped by the EB"
+    assert eoa_m - 150 < monitor.state.front_m <= eoa_m
