@@ -113,11 +113,8 @@ def prove(
         u = Unrolling(prop, tuple(assumed))
         bmc, induction = Bmc(u), Induction(u)
         for k in range(max_k + 1):
-            step = induction.check(k, deadline.remaining())
-            if step.result == "unsat":
-                return result("proved", "k-induction", k)
-            if step.result == "unknown":
-                return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
+            # the base case first: a counterexample at depth k is found even when the inductive step at k
+            # is too hard for the solver (the step of a broken model is typically the harder check)
             base = bmc.check(k, deadline.remaining())
             if base.result == "sat":
                 trace = extract(u, base.model, k)
@@ -128,6 +125,11 @@ def prove(
                 return result("falsified", "bmc", k, f"violated at step {k}", trace, replayed)
             if base.result == "unknown":
                 return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+            step = induction.check(k, deadline.remaining())
+            if step.result == "unsat":
+                return result("proved", "k-induction", k)
+            if step.result == "unknown":
+                return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
         return result(
             "unknown",
             "k-induction",
