@@ -21,7 +21,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.curves import Target, ceiling_offset_mps, curve_locations, gradient_acceleration_mps2
+from atcs.model.curves import Target, gradient_acceleration_mps2
+from atcs.model.dynamic_profile import exceedances, limits_at
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import (
@@ -33,7 +34,6 @@ from atcs.model.plant import (
     plant_next,
 )
 from atcs.model.supervision import (
-    Exceedances,
     SupervisionOutputs,
     SupervisionParams,
     SupervisionState,
@@ -90,20 +90,8 @@ def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInpu
     speed = i.measured_speed_mps
     zero = o.const(0)
     target = Target(p.eoa_m, zero, zero)
-    curve = curve_locations(o, p, p, plant_gradient(p), target, speed, worst_acceleration_mps2(o, p))
-
-    def ceiling(dv_min, dv_max, v_min, v_max):
-        return p.mrsp_mps + ceiling_offset_mps(o, p.mrsp_mps, dv_min, dv_max, v_min, v_max)
-
-    over = Exceedances(
-        over_permitted=o.or_(front > curve.permitted_m, speed > p.mrsp_mps),
-        over_warning=o.or_(front > curve.warning_m, speed > ceiling(
-            p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps, p.v_warning_max_mps)),
-        over_sbi=o.or_(front > curve.sbi_m, speed > ceiling(
-            p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)),
-        over_ebi=o.or_(front > curve.ebi_m, speed > ceiling(
-            p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)),
-    )
+    curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
+    over = exceedances(o, curve, ceiling, front, speed)
     state, commands = supervise(o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release)
     return state, commands, curve
 

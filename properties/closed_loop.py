@@ -24,10 +24,10 @@ from atcs.model.curves import (
     A_EST2_CAP_MPS2,
     Target,
     adhesion_factor,
-    ceiling_offset_mps,
     ebd_location_m,
     ebd_speed2_at,
 )
+from atcs.model.dynamic_profile import ceilings
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import max_gradient_acceleration_mps2, plant_gradient
@@ -151,8 +151,7 @@ def ceiling_margin_mps(o, p, cycles: int, traction_cycles: int):
 
 
 def ebi_ceiling_mps(o, p):
-    return p.mrsp_mps + ceiling_offset_mps(o, p.mrsp_mps, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps,
-                                           p.v_ebi_max_mps)
+    return ceilings(o, p, p.mrsp_mps).ebi_mps
 
 
 def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
-from atcs.model import closed_loop, curves
+from atcs.model import closed_loop, curves, dynamic_profile
 from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopInputs, ClosedLoopParams, ClosedLoopState
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import (
@@ -54,7 +54,7 @@ MUTANTS = {
         # the max safe front taken without the odometry error
         (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m"),
         # EB at the EBD instead of the EBI
-        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m,", "over_ebi=o.or_(front > curve.ebd_m,"),
+        (dynamic_profile.exceedances, "front_m > curve.ebi_m", "front_m > curve.ebd_m"),
         # EBI without the speed gained during the brake build-up time
         (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),
         # the gradient's sign flipped: a downhill taken as helping the brake
@@ -65,12 +65,11 @@ MUTANTS = {
     ],
     "under_ceiling": [
         # no EB ceiling: only the braking curves supervised
-        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m, speed > ceiling(",
-         "over_ebi=o.or_(front > curve.ebi_m, speed > o.const(1000) + ceiling("),
+        (dynamic_profile.exceedances, "speed_mps > ceiling.ebi_mps", "speed_mps > o.const(1000) + ceiling.ebi_mps"),
     ],
     "eb_at_ebi": [
         # EB at the EBD instead of the EBI
-        (closed_loop.atp_cycle, "over_ebi=o.or_(front > curve.ebi_m,", "over_ebi=o.or_(front > curve.ebd_m,"),
+        (dynamic_profile.exceedances, "front_m > curve.ebi_m", "front_m > curve.ebd_m"),
     ],
 }
 

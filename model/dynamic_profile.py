@@ -1,0 +1,230 @@
+"""The dynamic speed profile over the horizon: targets from the MRSP and the MA, the most restrictive
+curve at the train's position, the ceilings, and what supervision compares each cycle (seed 000 §2.4,
+002 §3.2; DESIGN.md reference formulas).
+
+- Targets: every speed *decrease* of the MRSP ahead of the max safe front (its EBD ends at
+  ``V_target + dV_ebi(V_target)``, Subset-026 §3.13.8.3) and the end of authority (its EBD ends
+  at the MA's target speed ``vMA``). A decrease at or behind the max safe front already binds
+  the train: the ceiling supervises it.
+- The most restrictive curve at a speed is the one nearest the train: each curve's location
+  (:func:`~atcs.model.curves.curve_locations`) is the minimum over the targets.
+- The ceilings: MRSP + dV_warning / dV_sbi / dV_ebi at the max safe front (the MRSP given
+  here is the train-length compensated one that :mod:`atcs.model.mrsp` produces).
+
+:func:`limits_at` and :func:`exceedances` are what supervision runs each cycle, computed from
+segments (no per-metre arrays) and written once over the ops; the closed-loop node uses them
+with its one target. The number of targets depends on the data, so :func:`supervised_targets`
+takes concrete profiles. :func:`curve_speeds_at` (the speed of each curve at a location) and
+:func:`sampled_curves` (each curve over the horizon, for plotting) are concrete queries on top.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from typing import Generic
+
+import numpy as np
+
+from atcs.model.curves import FAR_M, CurveLocations, Target, ceiling_offset_mps, curve_locations
+from atcs.model.ops import N, Ops
+from atcs.model.ops.floating import FLOAT
+from atcs.model.profile import Profile, value_at
+from atcs.model.supervision import Exceedances
+from atcs.model.train_data import NationalData, TrainData
+
+CURVE_NAMES = tuple(f.name.removesuffix("_m") for f in fields(CurveLocations))
+"""``ebd``, ``ebi``, ``sbi``, ``warning``, ``permitted``, ``indication``: farthest first."""
+
+
+@dataclass(frozen=True)
+class Ceilings(Generic[N]):
+    """The speed limits of the ceiling supervision at the train's position (m/s)."""
+
+    permitted_mps: N
+    warning_mps: N
+    sbi_mps: N
+    ebi_mps: N
+
+
+@dataclass(frozen=True)
+class Horizon(Generic[N]):
+    """What the ATP supervises ahead: the MRSP (train-length compensated), the compensated gradient
+    profile, and the movement authority ``(eoa_m, eoa_speed_mps)`` (dMA, vMA)."""
+
+    mrsp: Profile
+    gradient: Profile
+    eoa_m: N
+    eoa_speed_mps: N
+
+
+@dataclass(frozen=True)
+class CurveSpeeds(Generic[N]):
+    """The speed of each curve at one location (m/s), the ceilings included."""
+
+    ebd_mps: N
+    ebi_mps: N
+    sbi_mps: N
+    warning_mps: N
+    permitted_mps: N
+    indication_mps: N
+
+
+def ebd_foot_mps(o: Ops, n: NationalData, speed_mps):
+    """Where the EBD of a speed decrease to ``speed_mps`` ends: ``V_target + dV_ebi(V_target)``."""
+    return speed_mps + ceiling_offset_mps(o, speed_mps, n.dv_ebi_min_mps, n.dv_ebi_max_mps,
+                                          n.v_ebi_min_mps, n.v_ebi_max_mps)
+
+
+def ceilings(o: Ops, n: NationalData, mrsp_mps) -> Ceilings:
+    """MRSP + dV for each ceiling (dV speed-dependent between its min and max)."""
+
+    def ceiling(dv_min, dv_max, v_min, v_max):
+        return mrsp_mps + ceiling_offset_mps(o, mrsp_mps, dv_min, dv_max, v_min, v_max)
+
+    return Ceilings(
+        permitted_mps=mrsp_mps,
+        warning_mps=ceiling(n.dv_warning_min_mps, n.dv_warning_max_mps, n.v_warning_min_mps, n.v_warning_max_mps),
+        sbi_mps=ceiling(n.dv_sbi_min_mps, n.dv_sbi_max_mps, n.v_sbi_min_mps, n.v_sbi_max_mps),
+        ebi_mps=ceiling(n.dv_ebi_min_mps, n.dv_ebi_max_mps, n.v_ebi_min_mps, n.v_ebi_max_mps),
+    )
+
+
+def supervised_targets(o: Ops, n: NationalData, horizon: Horizon, max_safe_front_m) -> tuple[Target, ...]:
+    """The MRSP's speed decreases ahead of ``max_safe_front_m`` and short of the EoA, then the EoA
+    (concrete profiles: the number of targets depends on the data)."""
+    mrsp = horizon.mrsp
+    targets = [
+        Target(start, v, ebd_foot_mps(o, n, v))
+        for start, before, v in zip(mrsp.starts_m[1:], mrsp.values, mrsp.values[1:], strict=False)
+        if v < before and max_safe_front_m < start < horizon.eoa_m
+    ]
+    targets.append(Target(horizon.eoa_m, horizon.eoa_speed_mps, horizon.eoa_speed_mps))
+    return tuple(targets)
+
+
+def most_restrictive(o: Ops, per_target: tuple[CurveLocations, ...]) -> CurveLocations:
+    """Each curve's nearest location over the targets."""
+    return CurveLocations(**{
+        f.name: o.min(*(getattr(c, f.name) for c in per_target)) for f in fields(CurveLocations)
+    })
+
+
+def limits_at(o: Ops, t: TrainData, n: NationalData, gradient: Profile, targets: tuple[Target, ...],
+              mrsp_mps, speed_mps, a_est_mps2) -> tuple[CurveLocations, Ceilings]:
+    """The curves' locations at ``speed_mps`` (the most restrictive target's) and the ceilings for
+    the MRSP value ``mrsp_mps`` at the train's position."""
+    curves = most_restrictive(o, tuple(
+        curve_locations(o, t, n, gradient, target, speed_mps, a_est_mps2) for target in targets))
+    return curves, ceilings(o, n, mrsp_mps)
+
+
+def exceedances(o: Ops, curve: CurveLocations, ceiling: Ceilings, front_m, speed_mps) -> Exceedances:
+    """Which limits the train is over: its max safe front past a curve's location at its speed, or
+    its speed over a ceiling (seed 000 §2.4: supervision at the current position)."""
+    return Exceedances(
+        over_permitted=o.or_(front_m > curve.permitted_m, speed_mps > ceiling.permitted_mps),
+        over_warning=o.or_(front_m > curve.warning_m, speed_mps > ceiling.warning_mps),
+        over_sbi=o.or_(front_m > curve.sbi_m, speed_mps > ceiling.sbi_mps),
+        over_ebi=o.or_(front_m > curve.ebi_m, speed_mps > ceiling.ebi_mps),
+    )
+
+
+def supervise_position(o: Ops, t: TrainData, n: NationalData, horizon: Horizon, max_safe_front_m, speed_mps,
+                       a_est_mps2) -> tuple[Exceedances, CurveLocations, Ceilings]:
+    """One cycle's speed and distance monitoring on concrete data: targets, the curves at the train's
+    speed, the ceilings at its max safe front, and the exceedances (what :func:`supervise` decides on)."""
+    targets = supervised_targets(o, n, horizon, max_safe_front_m)
+    mrsp_mps = value_at(o, horizon.mrsp, max_safe_front_m)
+    curve, ceiling = limits_at(o, t, n, horizon.gradient, targets, mrsp_mps, speed_mps, a_est_mps2)
+    return exceedances(o, curve, ceiling, max_safe_front_m, speed_mps), curve, ceiling
+
+
+# --- concrete queries: the speed of each curve at a location, and the curves sampled for plots ---
+
+
+def _curve_ceiling(ceiling: Ceilings, name: str):
+    return {"ebd": ceiling.ebi_mps, "ebi": ceiling.ebi_mps, "sbi": ceiling.sbi_mps,
+            "warning": ceiling.warning_mps}.get(name, ceiling.permitted_mps)
+
+
+def curve_speeds_at(t: TrainData, n: NationalData, horizon: Horizon, x_m, a_est_mps2, *, o: Ops = FLOAT,
+                    tolerance_mps=1e-6) -> CurveSpeeds:
+    """The speed of each curve at ``x_m``: the highest speed whose curve location is at or beyond
+    ``x_m`` (bisection; every curve's location falls as the speed rises), capped by its ceiling
+    (the EBD and EBI by MRSP + dV_ebi, permitted and indication by the MRSP itself)."""
+    if not tolerance_mps > 0:
+        raise ValueError(f"tolerance_mps must be positive, got {tolerance_mps!r}")
+    targets = supervised_targets(o, n, horizon, x_m)
+    ceiling = ceilings(o, n, value_at(o, horizon.mrsp, x_m))
+    speeds = {}
+    for name in CURVE_NAMES:
+        top = _curve_ceiling(ceiling, name)
+
+        def location(v, name=name):
+            per_target = [curve_locations(o, t, n, horizon.gradient, g, v, a_est_mps2) for g in targets]
+            return min(getattr(c, f"{name}_m") for c in per_target)
+
+        if location(top) >= x_m:
+            speeds[name] = top
+            continue
+        low, high = o.const(0), top
+        if location(low) < x_m:  # even standstill is over the curve here (past the EoA)
+            speeds[name] = low
+            continue
+        while high - low > tolerance_mps:
+            mid = (low + high) / 2
+            low, high = (mid, high) if location(mid) >= x_m else (low, mid)
+        speeds[name] = low
+    return CurveSpeeds(**{f"{name}_mps": v for name, v in speeds.items()})
+
+
+@dataclass(frozen=True)
+class SampledCurves:
+    """Each curve's speed (m/s) at ``positions_m``, for plotting: the ceilings included, and
+    ``mrsp_mps`` the MRSP itself."""
+
+    positions_m: np.ndarray
+    mrsp_mps: np.ndarray
+    speeds_mps: dict[str, np.ndarray]
+
+
+def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: float, a_est_mps2: float,
+                   *, samples: int = 400, speed_steps: int = 200) -> SampledCurves:
+    """Each curve over ``[from_m, eoa_m]`` on the float backend. Each target's curves are traced in
+    speed (the inverse query at ``speed_steps`` speeds, exact points of the curve), interpolated onto
+    ``samples`` positions, and the lowest of the targets and the ceiling taken at each; from its
+    slowest traced point to the target a curve holds that speed (a train under it does not reach the
+    target's EBD before the target)."""
+    if samples < 2 or speed_steps < 2:
+        raise ValueError(f"samples and speed_steps must be at least 2, got {samples!r} and {speed_steps!r}")
+    o = FLOAT
+    to_m = float(horizon.eoa_m)
+    if not from_m < to_m:
+        raise ValueError(f"from_m must lie before the end of authority {to_m:g} m, got {from_m!r}")
+    positions = np.linspace(from_m, to_m, samples)
+    mrsp = np.array([float(value_at(o, horizon.mrsp, x)) for x in positions])
+    top_speed = float(max(horizon.mrsp.values)) * 1.5 + 10
+    targets = supervised_targets(o, n, horizon, from_m)
+    speeds = {name: np.full(samples, np.inf) for name in CURVE_NAMES}
+    for target in targets:
+        # finer near the target's speeds, where the curves end
+        v_target, v_foot = float(target.speed_mps), float(target.ebd_foot_mps)
+        grid = np.union1d(np.linspace(0.0, top_speed, speed_steps),
+                          np.linspace(v_target + 1e-6, v_foot + 5.0, speed_steps // 2))
+        per_speed = [curve_locations(o, t, n, horizon.gradient, target, float(v), a_est_mps2) for v in grid]
+        for name in CURVE_NAMES:
+            where = np.array([getattr(c, f"{name}_m") for c in per_speed])
+            constrains = where < FAR_M / 2  # speeds at or under the target's never reach its curve
+            if not constrains.any():
+                continue
+            # locations fall as the speed rises: interpolate the speed over increasing locations
+            xs, vs = where[constrains][::-1], grid[constrains][::-1]
+            # from the slowest speed it constrains up to the target, a curve holds that speed
+            curve = np.interp(positions, xs, vs, left=np.inf, right=vs[-1])
+            curve[positions > float(target.location_m)] = np.inf  # past the target: its speed is the MRSP's
+            speeds[name] = np.minimum(speeds[name], curve)
+    for name in CURVE_NAMES:
+        cap = np.array([float(_curve_ceiling(ceilings(o, n, v), name)) for v in mrsp])
+        speeds[name] = np.minimum(speeds[name], cap)
+    return SampledCurves(positions, mrsp, speeds)
+
