@@ -1,10 +1,10 @@
-"""The ``atcs`` command line: ``prove``, ``replay``, ``bench``.
+"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``bench``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
 (an ``error`` verdict is never a pass). ``replay``: 0 the violation is
 reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
-``bench``: 0, or 2 for an unknown benchmark name.
+``curves``: 0, or 2 for bad train or track data. ``bench``: 0, or 2 for an unknown benchmark name.
 """
 
 from __future__ import annotations
@@ -70,6 +70,23 @@ def build_parser() -> argparse.ArgumentParser:
     r = sub.add_parser("replay", help="replay a counterexample exactly and show the violating step")
     r.add_argument("trace", metavar="CEX.json")
 
+    c = sub.add_parser("curves", help="draw the braking curves of a train, track and MA (PNG and SVG)")
+    c.add_argument("--train", choices=("seed000", "seed002"), default="seed000",
+                   help="train and national data of a seed (default seed000)")
+    c.add_argument("--mrsp", metavar="M:KMH,...", default="0:80,600:60,900:70,1200:40",
+                   help="MRSP as start:limit pairs, metres and km/h (default %(default)s)")
+    c.add_argument("--gradient", metavar="M:PERMILLE,...", default="0:0,500:-10,1100:5",
+                   help="compensated gradient as start:per-mille pairs, uphill positive (default %(default)s)")
+    c.add_argument("--eoa", metavar="M", default="1500", help="end of authority (m, default %(default)s)")
+    c.add_argument("--eoa-speed", metavar="KMH", default="0", help="target speed at the EoA (km/h, default 0)")
+    c.add_argument("--front", metavar="M", default="0", help="the max safe front: curves from here (m, default 0)")
+    c.add_argument("--a-est", metavar="MPS2", default=None,
+                   help="estimated acceleration for the EBI (m/s^2, default the train's maximum)")
+    c.add_argument("--speed", metavar="KMH", default=None,
+                   help="also print where each target's curves reach this speed (the ERA tool's query)")
+    c.add_argument("--out", metavar="DIR", default="curves",
+                   help="where curves.png and curves.svg go (default ./curves)")
+
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
     return parser
@@ -81,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
         out = Console(width=160)
     try:
         args = build_parser().parse_args(argv)
-        command = {"prove": _prove, "replay": _replay, "bench": _bench}[args.command]
+        command = {"prove": _prove, "replay": _replay, "curves": _curves, "bench": _bench}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -189,6 +206,89 @@ def _replay(args, out: Console, err: Console) -> int:
         out.print(f"[bold red]violated at step {first}[/]"
                   + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})"))
     return EXIT_OK if result.reproduced else EXIT_FALSIFIED
+
+
+# --- curves ------------------------------------------------------------------------------
+
+
+def _pairs(option: str, text: str) -> tuple[list[str], list[str]]:
+    starts, values = [], []
+    for item in text.split(","):
+        start, sep, value = item.strip().partition(":")
+        if not sep or not start or not value:
+            raise UsageError(f"curves: {option}: {item.strip()!r} is not START:VALUE (in {text!r})")
+        starts.append(start)
+        values.append(value)
+    return starts, values
+
+
+def _curves(args, out: Console, err: Console) -> int:
+    from fractions import Fraction
+
+    from atcs.model import train_data
+    from atcs.model.curves import check_braking_capability, curve_locations
+    from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, sampled_curves, supervised_targets
+    from atcs.model.ops.exact import EXACT
+    from atcs.model.profile import KMH_PER_MPS, ProfileError, gradient_profile, parse_number, speed_profile
+    from atcs.model.restrictions import as_float
+    from atcs.sim.plots import planning_area
+
+    train, national = {
+        "seed000": (train_data.seed000_train, train_data.subset026_national),
+        "seed002": (train_data.seed002_train, train_data.seed002_national),
+    }[args.train]
+    train, national = train(), national()
+    try:
+        eoa_m = parse_number("--eoa", "metres", args.eoa)
+        eoa_speed = parse_number("--eoa-speed", "km/h", args.eoa_speed) / KMH_PER_MPS
+        front_m = parse_number("--front", "metres", args.front)
+        a_est = train.max_acceleration_mps2 if args.a_est is None else parse_number("--a-est", "m/s^2", args.a_est)
+        speed = None if args.speed is None else parse_number("--speed", "km/h", args.speed) / KMH_PER_MPS
+        mrsp_starts, limits = _pairs("--mrsp", args.mrsp)
+        gradient_starts, gradients = _pairs("--gradient", args.gradient)
+        starts = [parse_number("--mrsp", "start", s) for s in mrsp_starts]
+        end_m = max(eoa_m, *starts, *(parse_number("--gradient", "start", s) for s in gradient_starts)) + 100
+        mrsp = speed_profile("--mrsp", mrsp_starts, limits, end_m)
+        gradient = gradient_profile("--gradient", gradient_starts, gradients, end_m)
+    except ProfileError as exc:
+        raise UsageError(f"curves: {exc}") from None
+    for option, value, ok in (("--eoa", eoa_m, eoa_m > 0), ("--eoa-speed", eoa_speed, eoa_speed >= 0),
+                              ("--front", front_m, 0 <= front_m < eoa_m), ("--a-est", a_est, a_est >= 0),
+                              ("--speed", speed, speed is None or speed > 0)):
+        if not ok:
+            shown = float(value * KMH_PER_MPS) if option in ("--eoa-speed", "--speed") else float(value)
+            raise UsageError(f"curves: {option} = {shown:g} is out of range"
+                             + (" (the front must lie before the EoA, from 0)" if option == "--front" else ""))
+    try:
+        train_data.validate(train, national)
+        check_braking_capability(train, national, gradient)
+    except train_data.TrainDataError as exc:
+        raise UsageError(f"curves: {exc}") from None
+
+    horizon = Horizon(mrsp, gradient, eoa_m, eoa_speed)
+    sampled = sampled_curves(train, national, Horizon(as_float(mrsp), as_float(gradient), float(eoa_m),
+                                                      float(eoa_speed)), float(front_m), float(a_est))
+    directory = Path(args.out)
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UsageError(f"curves: --out {args.out!r}: {exc.strerror}") from None
+    title = f"{args.train}: braking curves to the EoA at {float(eoa_m):g} m (A_est {float(a_est):.2f} m/s²)"
+    paths = planning_area(sampled, float(eoa_m), title, [directory / "curves.png", directory / "curves.svg"])
+    out.print("wrote " + ", ".join(str(p) for p in paths))
+
+    if speed is not None:
+        table = Table(title=f"where each curve reaches {float(speed * KMH_PER_MPS):g} km/h (m; '-' never)")
+        table.add_column("target (m @ km/h)")
+        for name in CURVE_NAMES:
+            table.add_column(name, justify="right")
+        for target in supervised_targets(EXACT, national, horizon, front_m):
+            at = curve_locations(EXACT, train, national, gradient, target, speed, a_est)
+            cells = [getattr(at, f"{name}_m") for name in CURVE_NAMES]
+            table.add_row(f"{float(target.location_m):g} @ {float(target.speed_mps * KMH_PER_MPS):g}",
+                          *("-" if c > Fraction(10**6) else f"{float(c):.2f}" for c in cells))
+        out.print(table)
+    return EXIT_OK
 
 
 # --- bench -------------------------------------------------------------------------------

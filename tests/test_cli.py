@@ -161,6 +161,36 @@ class TestReplay:
         one_line_error(capsys, "cannot read")
 
 
+class TestCurves:
+    def test_writes_png_and_svg_and_the_inverse_query(self, tmp_path, capsys):
+        out_dir = tmp_path / "plots"
+        assert main(["curves", "--train", "seed002", "--out", str(out_dir), "--speed", "50"]) == 0
+        assert (out_dir / "curves.png").read_bytes().startswith(b"\x89PNG")
+        assert b"<svg" in (out_dir / "curves.svg").read_bytes()
+        assert sorted(p.name for p in out_dir.iterdir()) == ["curves.png", "curves.svg"]  # no temporary left
+        out = capsys.readouterr().out
+        assert "where each curve reaches 50 km/h" in out and "1500 @ 0" in out
+
+    @pytest.mark.parametrize(
+        ("argv", "expected"),
+        [
+            (["--mrsp", "0:80,600x60"], "--mrsp: '600x60' is not START:VALUE"),
+            (["--mrsp", "0:80,600:fast"], "--mrsp"),
+            (["--gradient", "0:0,500:-400"], "--gradient"),
+            (["--eoa", "-5"], "--eoa = -5 is out of range"),
+            (["--front", "2000"], "--front = 2000 is out of range"),
+            (["--a-est", "-1"], "--a-est = -1 is out of range"),
+            (["--speed", "0"], "--speed = 0 is out of range"),
+            (["--gradient", "0:-100"], "the train cannot stop"),
+            (["--train", "seed999"], "invalid choice"),
+        ],
+    )
+    def test_bad_input_one_line_exit_2(self, tmp_path, argv, expected, capsys):
+        assert main(["curves", "--out", str(tmp_path), *argv]) == 2
+        one_line_error(capsys, expected)
+        assert not any(tmp_path.iterdir())  # nothing written
+
+
 class TestBench:
     def test_supervision_benchmark_prints_ratios(self, capsys):
         assert main(["bench", "supervision"]) == 0
