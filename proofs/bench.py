@@ -21,6 +21,7 @@ from atcs.model.profile import KMH_PER_MPS, Profile, speed_profile, value_at
 from atcs.model.psl import Restriction, permanent_speed_limit, restricted
 from atcs.model.restrictions import SpeedRestrictions, as_float, canonical
 from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
+from atcs.proofs.bench_cycle import bench_cycle
 
 CYCLE_S = 0.1  # one ATP cycle (seed 001)
 
@@ -191,4 +192,6 @@ def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
     return results
 
 
-BENCHMARKS: dict[str, Callable[[Console], object]] = {"supervision": bench_supervision, "mrsp": bench_mrsp}
+BENCHMARKS: dict[str, Callable[[Console], object]] = {
+    "supervision": bench_supervision, "mrsp": bench_mrsp, "cycle": bench_cycle,
+}

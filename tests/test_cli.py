@@ -203,6 +203,18 @@ class TestBench:
         assert "incremental window update" in out and "per-metre arrays" in out and "/ incremental" in out
 
 
+def test_cycle_benchmark_checks_agreement_and_prints_ratios():
+    from rich.console import Console
+
+    from atcs.proofs.bench_cycle import bench_cycle
+
+    console = Console(record=True, width=160)
+    results = bench_cycle(console, cycles=5, prove_closed_loop=False)  # the proofs are timed by `atcs prove`
+    assert results["agree"] == results["compared"] == 10
+    text = console.export_text()
+    assert "share of 100 ms cycle" in text and "per-metre arrays" in text
+
+
 def test_console_script_is_installed():
     script = Path(sys.executable).parent / "atcs"
     done = subprocess.run([str(script), "prove", "--only", "supervision.eb_above_ebi"],
