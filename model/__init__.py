@@ -10,10 +10,12 @@ from atcs.model.deceleration import DECELERATION
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT
+from atcs.model.position import POSITION
+from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.supervision import SUPERVISION
 
 NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
-                                                         CLOSED_LOOP)}
+                                                         CLOSED_LOOP, POSITION, POSITION_LOOP)}
 
 __all__ = ["NODES", "Node"]

@@ -92,7 +92,9 @@ def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInpu
     target = Target(p.eoa_m, zero, zero)
     curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
     over = exceedances(o, curve, ceiling, front, speed)
-    state, commands = supervise(o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release)
+    # the measurement assumption (front within position_error_m of the truth) is what a valid position gives
+    state, commands = supervise(o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release,
+                                o.const_bool(True))
     return state, commands, curve
 
 

@@ -5,7 +5,8 @@ train's current position (the first element of each braking curve, seed 000
 section 2.4.3): above the warning limit a warning is given, above SBI the
 (full) service brake is commanded, above EBI the emergency brake. The EB command
 is latched: once given it is held until the train is at standstill *and* the
-release input is present (seed 000 section 2.4.3, Fig. 11). The service brake is
+release input is present (seed 000 section 2.4.3, Fig. 11). A train that cannot
+determine its position is emergency braked (seed 001 section 3.2). The service brake is
 held until the speed is back under the permitted speed (Subset-026 3.13.10.4
 style revocation). Traction is cut off whenever a brake is commanded.
 
@@ -57,6 +58,8 @@ class SupervisionInputs(Generic[N, B]):
     """Standstill detected."""
     eb_release: B
     """Driver's (or ATS's) request to release the emergency brake."""
+    position_valid: B
+    """The train knows its position (:mod:`atcs.model.position`); without it, EB (seed 001 §3.2)."""
 
 
 @dataclass(frozen=True)
@@ -87,11 +90,14 @@ class Exceedances(Generic[N, B]):
     over_ebi: B
 
 
-def supervise(o: Ops, p: SupervisionParams, s: SupervisionState, over: Exceedances, standstill, eb_release):
-    """The supervision decision from the limits exceeded: returns (next state, commands)."""
+def supervise(o: Ops, p: SupervisionParams, s: SupervisionState, over: Exceedances, standstill, eb_release,
+              position_valid):
+    """The supervision decision from the limits exceeded: returns (next state, commands). A train that does not
+    know its position is emergency braked (seed 001 §3.2)."""
     eb_released = o.and_(standstill, eb_release)
     emergency_brake = o.or_(
         over.over_ebi,
+        o.not_(position_valid),
         o.and_(over.over_sbi, o.not_(p.service_brake_fitted)),
         o.and_(s.eb_latched, o.not_(eb_released)),
     )
@@ -117,7 +123,7 @@ def supervision_step(o: Ops, p: SupervisionParams, s: SupervisionState, i: Super
         over_sbi=i.speed_mps > i.sbi_mps,
         over_ebi=i.speed_mps > i.ebi_mps,
     )
-    return supervise(o, p, s, over, i.standstill, i.eb_release)
+    return supervise(o, p, s, over, i.standstill, i.eb_release, i.position_valid)
 
 
 SUPERVISION = Node(

@@ -43,7 +43,7 @@ def _supervision_inputs(trains: int, rng: np.random.Generator):
     speed = rng.uniform(0, 30, trains)
     return SupervisionInputs(
         speed_mps=speed, permitted_mps=permitted, warning_mps=warning, sbi_mps=sbi, ebi_mps=ebi,
-        standstill=speed < 0.1, eb_release=rng.random(trains) < 0.5,
+        standstill=speed < 0.1, eb_release=rng.random(trains) < 0.5, position_valid=rng.random(trains) < 0.99,
     )
 
 

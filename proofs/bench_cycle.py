@@ -39,7 +39,7 @@ def segment_cycle(t, n, horizon: Horizon, front_m: float, speed_mps: float, a_es
     """The model's cycle: targets, curves at the train's position and speed, ceilings, commands."""
     over, curve, _ = supervise_position(FLOAT, t, n, horizon, front_m, speed_mps, a_est_mps2)
     state = SupervisionState(eb_latched=False, sb_latched=False)
-    _, commands = supervise(FLOAT, SupervisionParams(True), state, over, speed_mps == 0, False)
+    _, commands = supervise(FLOAT, SupervisionParams(True), state, over, speed_mps == 0, False, True)
     return over, curve, commands
 
 

@@ -92,12 +92,13 @@ PROPERTIES = (
         requirement="SUP-07",
         seed="000 §2.4.2",
         text=(
-            "Not over-restrictive: with EB not latched and the speed at or under the permitted speed, "
+            "Not over-restrictive: with EB not latched, the position valid and the speed at or under the "
+            "permitted speed, "
             "neither brake is commanded and traction is available."
         ),
         node=SUPERVISION,
         holds=lambda o, p, s, i, out, nxt: o.implies(
-            o.and_(o.not_(s.eb_latched), i.speed_mps <= i.permitted_mps),
+            o.and_(o.not_(s.eb_latched), i.position_valid, i.speed_mps <= i.permitted_mps),
             o.not_(o.or_(out.service_brake, out.emergency_brake, out.traction_cut)),
         ),
         assumptions=(CURVE_ORDER, SPEED_NON_NEGATIVE),
@@ -109,5 +110,13 @@ PROPERTIES = (
         text="A train without a service-brake interface is never sent a service brake command.",
         node=SUPERVISION,
         holds=lambda o, p, s, i, out, nxt: o.implies(o.not_(p.service_brake_fitted), o.not_(nxt.sb_latched)),
+    ),
+    Property(
+        name="supervision.eb_without_position",
+        requirement="SUP-09",
+        seed="001 §3.2",
+        text="EB is commanded in every cycle in which the train does not know its position.",
+        node=SUPERVISION,
+        holds=lambda o, p, s, i, out, nxt: o.implies(o.not_(i.position_valid), out.emergency_brake),
     ),
 )

@@ -59,6 +59,7 @@ MUTANTS = {
         "over_sbi=i.speed_mps >= i.permitted_mps",
     ),
     "supervision.sb_only_if_fitted": ("        p.service_brake_fitted,\n", "", supervise),
+    "supervision.eb_without_position": ("        o.not_(position_valid),\n", "", supervise),
 }
 
 
@@ -134,6 +135,7 @@ def ordered_inputs(draw):
     return SupervisionInputs(
         speed_mps=float(v), permitted_mps=float(permitted), warning_mps=float(warning), sbi_mps=float(sbi),
         ebi_mps=float(ebi), standstill=draw(st.booleans()) if v == 0 else False, eb_release=draw(st.booleans()),
+        position_valid=draw(st.booleans()),
     )
 
 

@@ -62,6 +62,14 @@ class Ops(Protocol[N, B]):
     def eq(self, left: N | B, right: N | B) -> B:
         """Equality; the only way to compare for equality in a step function."""
 
+    def select(self, values: Sequence[N | B], index: N) -> N | B:
+        """``values[index]`` for a whole ``index`` in ``0 .. len(values) - 1``; the last value for any other
+        ``index`` (the same total function in every backend; the symbolic one is a chain of ``ite``)."""
+
+    def find(self, keys: Sequence[N], key: N) -> tuple[B, N]:
+        """``(found, index)``: whether ``key`` is among ``keys``, and the first index where it is (0 if it is
+        not). A table lookup such as a tag id to its entry."""
+
     def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
         """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.
 
@@ -77,6 +85,23 @@ def check_columns(keys: Sequence, columns: Sequence[Sequence]) -> None:
     for index, column in enumerate(columns):
         if len(column) != len(keys):
             raise ValueError(f"sort_by_key: columns[{index}] has {len(column)} entries, keys has {len(keys)}")
+
+
+def check_table(what: str, values: Sequence) -> None:
+    """``Ops.select`` and ``Ops.find``'s argument check, shared by the backends."""
+    if len(values) == 0:
+        raise ValueError(f"{what}: the table is empty")
+
+
+def whole_index(index, size: int) -> int | None:
+    """A concrete ``index`` as an int if it is a whole number in ``0 .. size - 1``, else None."""
+    if isinstance(index, bool):
+        return None
+    try:
+        j = int(index)
+    except (TypeError, ValueError, OverflowError):
+        return None
+    return j if j == index and 0 <= j < size else None
 
 
 def to_fraction(value: Constant, *, what: str = "constant") -> Fraction:
@@ -101,4 +126,4 @@ def backends() -> dict[str, Ops]:
     return {ops.name: ops for ops in (FLOAT, EXACT, SYMBOLIC)}
 
 
-__all__ = ["B", "Constant", "N", "Ops", "backends", "check_columns", "to_fraction"]
+__all__ = ["B", "Constant", "N", "Ops", "backends", "check_columns", "check_table", "to_fraction", "whole_index"]

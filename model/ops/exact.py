@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from atcs.model.ops import Constant, check_columns, to_fraction
+from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
 
 
 class ExactOps:
@@ -42,6 +42,18 @@ class ExactOps:
 
     def eq(self, left, right) -> bool:
         return left == right
+
+    def select(self, values, index):
+        check_table("select", values)
+        j = whole_index(index, len(values))
+        return values[-1 if j is None else j]
+
+    def find(self, keys, key):
+        check_table("find", keys)
+        for j, k in enumerate(keys):
+            if k == key:
+                return True, Fraction(j)
+        return False, Fraction(0)
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

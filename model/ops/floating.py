@@ -10,7 +10,7 @@ from functools import reduce
 
 import numpy as np
 
-from atcs.model.ops import Constant, check_columns, to_fraction
+from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
 
 
 def _any_array(*values) -> bool:
@@ -63,6 +63,27 @@ class FloatOps:
         if _any_array(left, right):
             return np.equal(left, right)
         return bool(left == right)
+
+    def select(self, values, index):
+        check_table("select", values)
+        if not _any_array(index, *values):
+            j = whole_index(index, len(values))
+            return values[-1 if j is None else j]
+        *columns, index = np.broadcast_arrays(*values, np.asarray(index, dtype=float))
+        whole = (index == np.floor(index)) & (index >= 0) & (index < len(values))
+        j = np.where(whole, index, len(values) - 1).astype(int)
+        return np.take_along_axis(np.stack(columns), j[None], axis=0)[0]
+
+    def find(self, keys, key):
+        check_table("find", keys)
+        if not _any_array(key, *keys):
+            for j, k in enumerate(keys):
+                if k == key:
+                    return True, float(j)
+            return False, 0.0
+        table = np.stack(np.broadcast_arrays(*keys, key))
+        matches = table[:-1] == table[-1]
+        return matches.any(axis=0), matches.argmax(axis=0).astype(float)
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

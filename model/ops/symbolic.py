@@ -14,7 +14,7 @@ from fractions import Fraction
 
 import z3
 
-from atcs.model.ops import Constant, check_columns, to_fraction
+from atcs.model.ops import Constant, check_columns, check_table, to_fraction
 
 
 class SymbolicValueError(TypeError):
@@ -182,6 +182,23 @@ class SymbolicOps:
 
     def eq(self, left, right) -> Bool:
         return Bool(_any_term(left) == _any_term(right))
+
+    def select(self, values, index):
+        check_table("select", values)
+        j = _term(index)
+        result = _any_term(values[-1])
+        for k in range(len(values) - 2, -1, -1):
+            result = z3.If(j == k, _any_term(values[k]), result)
+        return wrap(result)
+
+    def find(self, keys, key):
+        check_table("find", keys)
+        k = _term(key)
+        found, index = z3.BoolVal(False), z3.RealVal(0)
+        for j in range(len(keys) - 1, -1, -1):
+            match = _term(keys[j]) == k
+            found, index = z3.Or(match, found), z3.If(match, z3.RealVal(j), index)
+        return Bool(found), Real(index)
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

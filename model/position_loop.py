@@ -1,0 +1,111 @@
+"""Position determination between the true motion and speed supervision: the node the position properties are
+proved over (seed 001 §3.2: a train that cannot determine its position must emergency brake).
+
+Each cycle the train moves by ``distance_m`` to the end speed ``next_speed_mps``,
+both chosen by the environment (any motion: the properties that need bounds on it
+assume them); the tag reader and the tachometer report on that motion
+(:mod:`atcs.model.position`), and supervision (:func:`~atcs.model.supervision.supervise`)
+decides on the max safe speed (estimate plus accuracy) against the limits at the
+current position, and on the position's validity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Generic
+
+from atcs.model.node import Node, as_dict
+from atcs.model.ops import B, N, Ops
+from atcs.model.position import (
+    PROOF_TAGS,
+    PositionInputs,
+    PositionOutputs,
+    PositionParams,
+    PositionState,
+    position_init,
+    position_step,
+)
+from atcs.model.supervision import (
+    Exceedances,
+    SupervisionOutputs,
+    SupervisionParams,
+    SupervisionState,
+    supervise,
+    supervision_init,
+)
+
+
+@dataclass(frozen=True)
+class PositionLoopParams(PositionParams[N, B], SupervisionParams[N, B]):
+    pass
+
+
+@dataclass(frozen=True)
+class TrueMotion(Generic[N, B]):
+    front_m: N
+    """The true front."""
+    speed_mps: N
+    """The true speed."""
+    last_distance_m: N
+    """The true distance of the previous cycle."""
+
+
+@dataclass(frozen=True)
+class PositionLoopState(PositionState[N, B], SupervisionState[N, B], TrueMotion[N, B]):
+    pass
+
+
+@dataclass(frozen=True)
+class PositionLoopInputs(PositionInputs[N, B]):
+    distance_m: N
+    """The true distance of this cycle (the environment's choice)."""
+    next_speed_mps: N
+    """The true speed at the end of this cycle (the environment's choice)."""
+    permitted_mps: N
+    warning_mps: N
+    sbi_mps: N
+    ebi_mps: N
+    """The supervision limits at the current position."""
+    eb_release: B
+
+
+@dataclass(frozen=True)
+class PositionLoopOutputs(PositionOutputs[N, B], SupervisionOutputs[N, B]):
+    pass
+
+
+def position_loop_init(o: Ops, p: PositionLoopParams, s: PositionLoopState):
+    """Power-up at standstill, no position, EB applied."""
+    zero = o.const(0)
+    return o.and_(position_init(o, p, s), supervision_init(o, p, s), o.eq(s.speed_mps, zero),
+                  o.eq(s.last_distance_m, zero))
+
+
+def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: PositionLoopInputs):
+    located, position = position_step(o, p, s, i)
+    speed = position.speed_est_mps + position.speed_accuracy_mps
+    over = Exceedances(
+        over_permitted=speed > i.permitted_mps,
+        over_warning=speed > i.warning_mps,
+        over_sbi=speed > i.sbi_mps,
+        over_ebi=speed > i.ebi_mps,
+    )
+    supervised, commands = supervise(o, p, s, over, position.standstill, i.eb_release, position.position_valid)
+    state = PositionLoopState(
+        **as_dict(located), **as_dict(supervised),
+        front_m=s.front_m + i.distance_m, speed_mps=i.next_speed_mps, last_distance_m=i.distance_m,
+    )
+    return state, PositionLoopOutputs(**as_dict(position), **as_dict(commands))
+
+
+POSITION_LOOP = Node(
+    name="position_loop",
+    params=PositionLoopParams,
+    state=PositionLoopState,
+    inputs=PositionLoopInputs,
+    outputs=PositionLoopOutputs,
+    init=position_loop_init,
+    step=position_loop_step,
+    seed="001 §3.2, 002 §3.1",
+    sizes={"tag_ids": PROOF_TAGS, "tag_positions_m": PROOF_TAGS},
+)

@@ -1,0 +1,232 @@
+"""Properties of position determination and loss of position (seed 001 §3.2, Fig. 4 and 7; seed 002 §3.1).
+
+Over :data:`~atcs.model.position_loop.POSITION_LOOP` (the position node between the
+true motion and supervision), for a tag table of :data:`~atcs.model.position.PROOF_TAGS`
+tags with symbolic ids and positions, and symbolic tag window, tachometer error,
+train length, cycle time and acceleration bounds. Each property assumes only what it
+needs: the interval claims hold for *any* motion (forward), the speed claim needs the
+acceleration bounds. The fault claims are stated from the tag table entry by entry,
+not through the node's own lookups.
+"""
+
+from __future__ import annotations
+
+from atcs.model.position import MIN_CYCLE_S
+from atcs.model.position_loop import POSITION_LOOP
+from atcs.properties.property import Assumption, Property
+
+
+def _table(o, p, s, i):
+    ids, positions = p.tag_ids, p.tag_positions_m
+    n = len(ids)
+    return o.and_(
+        *(o.not_(o.eq(ids[j], ids[k])) for j in range(n) for k in range(j + 1, n)),
+        *(positions[j] < positions[j + 1] for j in range(n - 1)),
+        o.const(0) <= p.tacho_error, p.tacho_error < o.const(1), o.const(0) <= p.tag_window_m,
+        o.const(0) < p.train_length_m, o.const(MIN_CYCLE_S) <= p.cycle_s,
+        o.const(0) <= p.max_acceleration_mps2, o.const(0) <= p.max_deceleration_mps2,
+    )
+
+
+TABLE = Assumption(
+    "table",
+    f"tag ids are distinct and positions strictly increase; 0 <= tachometer error < 1, tag window >= 0, train "
+    f"length > 0, cycle >= {MIN_CYCLE_S} s, acceleration bounds >= 0",
+    _table,
+)
+
+TACHOMETER = Assumption(
+    "tachometer",
+    "the true distance of each cycle is within tacho_error * d of the tachometer's d (so the train never moves "
+    "backward)",
+    lambda o, p, s, i: o.and_(i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
+                              i.tacho_m - i.distance_m <= p.tacho_error * i.tacho_m),
+)
+
+
+def _genuine_tag(o, p, s, i):
+    front = s.front_m + i.distance_m
+    return o.implies(i.tag_read, o.or_(*(
+        o.and_(o.eq(i.tag_id, tag_id), tag_m - p.tag_window_m <= front, front <= tag_m + p.tag_window_m)
+        for tag_id, tag_m in zip(p.tag_ids, p.tag_positions_m, strict=True)
+    )))
+
+
+TAG_READER = Assumption(
+    "tag_reader",
+    "a tag reported is a tag of the table and the cycle ends with the true front within the tag window of it",
+    _genuine_tag,
+)
+
+
+def _kinematics(o, p, s, i):
+    dt, zero, two = p.cycle_s, o.const(0), o.const(2)
+    a, d = p.max_acceleration_mps2, p.max_deceleration_mps2
+    v, v_next, x = s.speed_mps, i.next_speed_mps, i.distance_m
+    return o.and_(
+        v_next >= zero, v_next - v <= a * dt, v - v_next <= d * dt,
+        x >= v_next * dt - a * dt * dt / two, x <= v_next * dt + d * dt * dt / two,
+        x - s.last_distance_m <= a * dt * dt, s.last_distance_m - x <= d * dt * dt,
+        o.implies(o.eq(x, zero), o.eq(v_next, zero)),
+    )
+
+
+KINEMATICS = Assumption(
+    "kinematics",
+    "the train accelerates at most max_acceleration_mps2 and decelerates at most max_deceleration_mps2 "
+    "(so the end speed is within those bounds of the cycle's mean speed, and consecutive cycles' distances "
+    "differ by at most A * dt^2), and a train that does not move for a whole cycle is at standstill",
+    _kinematics,
+)
+
+
+def _entries(p):
+    return list(zip(p.tag_ids, p.tag_positions_m, strict=True))
+
+
+def _next_tag(o, p, s):
+    """``[(lrt is tag j, next id, next position)]`` for every tag j that has a next tag in the table."""
+    tags = _entries(p)
+    return [(o.eq(s.lrt_index, o.const(j)), *tags[j + 1]) for j in range(len(tags) - 1)]
+
+
+def _odometry(o, p, s, i, j):
+    """The min and max safe front past tag j by the tachometer (DESIGN.md odometry), before any reset."""
+    offset = s.offset_m + i.tacho_m
+    ref = p.tag_positions_m[j]
+    return (ref + (o.const(1) - p.tacho_error) * offset - p.tag_window_m,
+            ref + (o.const(1) + p.tacho_error) * offset + p.tag_window_m)
+
+
+def _reads_next(o, p, s, i):
+    return o.and_(i.tag_read, o.or_(*(o.and_(at, o.eq(i.tag_id, next_id)) for at, next_id, _ in _next_tag(o, p, s))))
+
+
+def _invalid(o, out):
+    return o.not_(out.position_valid)
+
+
+def _lrt_in_table(o, p, s, i, out, nxt):
+    return o.or_(*(o.eq(s.lrt_index, o.const(j)) for j in range(len(p.tag_ids))))
+
+
+def _front_in_interval(o, p, s, i, out, nxt):
+    return o.implies(out.position_valid, o.and_(out.front_min_m <= nxt.front_m, nxt.front_m <= out.front_max_m))
+
+
+def _rear_in_interval(o, p, s, i, out, nxt):
+    rear = nxt.front_m - p.train_length_m
+    return o.and_(
+        o.eq(out.rear_min_m, out.front_min_m - p.train_length_m),
+        o.eq(out.rear_max_m, out.front_max_m - p.train_length_m),
+        o.eq(out.rear_est_m, out.front_est_m - p.train_length_m),
+        o.implies(out.position_valid, o.and_(out.rear_min_m <= rear, rear <= out.rear_max_m)),
+    )
+
+
+def _speed_within_accuracy(o, p, s, i, out, nxt):
+    error = nxt.speed_mps - out.speed_est_mps
+    return o.and_(error <= out.speed_accuracy_mps, -error <= out.speed_accuracy_mps)
+
+
+def _unknown_tag(o, p, s, i, out, nxt):
+    unknown = o.and_(i.tag_read, *(o.not_(o.eq(i.tag_id, tag_id)) for tag_id in p.tag_ids))
+    return o.implies(unknown, _invalid(o, out))
+
+
+def _unexpected_tag(o, p, s, i, out, nxt):
+    return o.implies(o.and_(s.localised, i.tag_read, o.not_(_reads_next(o, p, s, i))), _invalid(o, out))
+
+
+def _tag_outside_window(o, p, s, i, out, nxt):
+    w = p.tag_window_m
+    outside = []
+    for j, (at, next_id, next_m) in enumerate(_next_tag(o, p, s)):
+        low, high = _odometry(o, p, s, i, j)
+        outside.append(o.and_(at, o.eq(i.tag_id, next_id), o.or_(high < next_m - w, low > next_m + w)))
+    return o.implies(o.and_(s.localised, i.tag_read, o.or_(*outside)), _invalid(o, out))
+
+
+def _missed_tag(o, p, s, i, out, nxt):
+    passed = [o.and_(at, _odometry(o, p, s, i, j)[0] > next_m + p.tag_window_m)
+              for j, (at, _, next_m) in enumerate(_next_tag(o, p, s))]
+    return o.implies(o.and_(s.localised, o.not_(_reads_next(o, p, s, i)), o.or_(*passed)), _invalid(o, out))
+
+
+def _implausible_tacho(o, p, s, i, out, nxt):
+    dt2, slack = p.cycle_s * p.cycle_s, p.tacho_error * (i.tacho_m + s.last_tacho_m)
+    change = i.tacho_m - s.last_tacho_m
+    implausible = o.or_(i.tacho_m < o.const(0), change > p.max_acceleration_mps2 * dt2 + slack,
+                        -change > p.max_deceleration_mps2 * dt2 + slack)
+    return o.implies(implausible, _invalid(o, out))
+
+
+def _property(name, requirement, text, holds, assumptions=(), lemmas=(), seed="001 §3.2"):
+    return Property(
+        name=f"position.{name}", requirement=requirement, seed=seed, text=text, node=POSITION_LOOP, holds=holds,
+        assumptions=assumptions, lemmas=tuple(f"position.{lemma}" for lemma in lemmas),
+    )
+
+
+PROPERTIES = (
+    _property("lrt_in_table", "POS-00", "The last read tag is always an entry of the tag table.", _lrt_in_table),
+    _property(
+        "front_in_interval", "POS-01",
+        "While the position is valid, the true front is within [min safe front, max safe front], across tag "
+        "resets, for any forward motion (tachometer and tag reader within their stated errors).",
+        _front_in_interval, (TABLE, TACHOMETER, TAG_READER), seed="001 §3.2 (Fig. 7), 002 §3.1; DESIGN.md odometry",
+    ),
+    _property(
+        "rear_in_interval", "POS-02",
+        "The rear interval and estimate are the front's shifted back by the train length, and while the position "
+        "is valid the true rear is within the rear interval.",
+        _rear_in_interval, (TABLE, TACHOMETER, TAG_READER), ("front_in_interval",),
+    ),
+    _property(
+        "speed_within_accuracy", "POS-03",
+        "The true speed at the end of each cycle is within the stated accuracy (tacho_error * estimate + "
+        "max(A, D) * cycle / 2) of the estimated speed (distance per cycle).",
+        _speed_within_accuracy, (TABLE, TACHOMETER, KINEMATICS), seed="001 §3.2, 002 §3.1",
+    ),
+    _property(
+        "unexpected_tag_invalidates", "POS-04",
+        "A tag read that is not the table's next tag after the last read tag invalidates the position in that "
+        "cycle.", _unexpected_tag, (TABLE,), ("lrt_in_table",),
+    ),
+    _property(
+        "unknown_tag_invalidates", "POS-05",
+        "A tag id that is not in the tag table invalidates the position in that cycle.", _unknown_tag,
+    ),
+    _property(
+        "tag_outside_window_invalidates", "POS-06",
+        "The next tag read where the odometry interval excludes its window invalidates the position in that cycle.",
+        _tag_outside_window, (TABLE,), ("lrt_in_table",),
+    ),
+    _property(
+        "missed_tag_invalidates", "POS-07",
+        "Once the min safe front is past the next tag's window without a read of it, the position is invalid in "
+        "that cycle.", _missed_tag, (TABLE,), ("lrt_in_table",),
+    ),
+    _property(
+        "implausible_tacho_invalidates", "POS-08",
+        "A tachometer increment that is negative or changes by more than the acceleration bounds and the "
+        "tachometer error allow (standstill while running, spin, slide) invalidates the position in that cycle.",
+        _implausible_tacho,
+    ),
+    _property(
+        "eb_while_invalid", "POS-09",
+        "EB is commanded in every cycle the position is invalid (from power-up until the first tag, and after "
+        "any fault).",
+        lambda o, p, s, i, out, nxt: o.implies(_invalid(o, out), out.emergency_brake),
+    ),
+    _property(
+        "eb_held_while_moving", "POS-10",
+        "Once commanded, EB is held while the train moves: it is released only in a cycle in which the train "
+        "is truly at standstill.",
+        lambda o, p, s, i, out, nxt: o.implies(o.and_(s.eb_latched, nxt.speed_mps > o.const(0)),
+                                               out.emergency_brake),
+        (TABLE, TACHOMETER, KINEMATICS), seed="001 §3.2, 000 §2.4.3",
+    ),
+)
+
+__all__ = ["KINEMATICS", "PROPERTIES", "TABLE", "TACHOMETER", "TAG_READER"]
