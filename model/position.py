@@ -210,7 +210,7 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
     return PositionState(localised, lrt_index, offset, i.tacho_m), outputs
 
 
-PROOF_TAGS = 4
+PROOF_TAGS = 16
 """The tag-table capacity the proofs cover (ids and positions symbolic)."""
 
 POSITION = Node(

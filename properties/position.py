@@ -37,9 +37,9 @@ TABLE = Assumption(
 
 TACHOMETER = Assumption(
     "tachometer",
-    "the true distance of each cycle is within tacho_error * d of the tachometer's d (so the train never moves "
-    "backward)",
-    lambda o, p, s, i: o.and_(i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
+    "the train never moves backward, and the true distance of each cycle is within tacho_error * d of the "
+    "tachometer's d",
+    lambda o, p, s, i: o.and_(o.const(0) <= i.distance_m, i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
                               i.tacho_m - i.distance_m <= p.tacho_error * i.tacho_m),
 )
 
@@ -80,6 +80,27 @@ KINEMATICS = Assumption(
 )
 
 
+def _reader_complete(o, p, s, i):
+    front, w = s.front_m, p.tag_window_m
+    crossed = [o.and_(front < tag_m, tag_m <= front + i.distance_m) for tag_m in p.tag_positions_m]
+    reads = [o.and_(i.tag_read, o.eq(i.tag_id, tag_id)) for tag_id in p.tag_ids]
+    positions = p.tag_positions_m
+    return o.and_(
+        i.distance_m <= w,
+        *(positions[j + 1] - positions[j] > w for j in range(len(positions) - 1)),
+        *(o.eq(c, r) for c, r in zip(crossed, reads, strict=True)),
+        o.implies(i.tag_read, o.or_(*reads)),
+    )
+
+
+READER_COMPLETE = Assumption(
+    "reader_complete",
+    "fault-free tag reader: a tag is reported, with its own id, exactly in the cycle the true front passes it; "
+    "the train runs at most the tag window per cycle and tags are more than the window apart",
+    _reader_complete,
+)
+
+
 def _entries(p):
     return list(zip(p.tag_ids, p.tag_positions_m, strict=True))
 
@@ -108,6 +129,14 @@ def _invalid(o, out):
 
 def _lrt_in_table(o, p, s, i, out, nxt):
     return o.or_(*(o.eq(s.lrt_index, o.const(j)) for j in range(len(p.tag_ids))))
+
+
+def _front_between_lrt_and_next(o, p, s, i, out, nxt):
+    positions, n = p.tag_positions_m, len(p.tag_positions_m)
+    within = [o.and_(o.eq(s.lrt_index, o.const(j)), positions[j] <= s.front_m,
+                     *((s.front_m < positions[j + 1],) if j + 1 < n else ()))
+              for j in range(n)]
+    return o.implies(s.localised, o.or_(*within))
 
 
 def _front_in_interval(o, p, s, i, out, nxt):
@@ -227,6 +256,20 @@ PROPERTIES = (
                                                out.emergency_brake),
         (TABLE, TACHOMETER, KINEMATICS), seed="001 §3.2, 000 §2.4.3",
     ),
+    _property(
+        "front_between_lrt_and_next", "POS-11",
+        "With a fault-free tag reader, while the position is valid the true front is at or past the last read "
+        "tag and short of the next one in the table.",
+        _front_between_lrt_and_next, (TABLE, TACHOMETER, READER_COMPLETE), ("lrt_in_table",),
+    ),
+    _property(
+        "no_false_alarm", "POS-12",
+        "Availability (so the claims above are not vacuous): with sensors within their stated errors, a "
+        "fault-free tag reader and motion within the acceleration bounds, a valid position stays valid.",
+        lambda o, p, s, i, out, nxt: o.implies(s.localised, out.position_valid),
+        (TABLE, TACHOMETER, TAG_READER, KINEMATICS, READER_COMPLETE),
+        ("lrt_in_table", "front_in_interval", "front_between_lrt_and_next"),
+    ),
 )
 
-__all__ = ["KINEMATICS", "PROPERTIES", "TABLE", "TACHOMETER", "TAG_READER"]
+__all__ = ["KINEMATICS", "PROPERTIES", "READER_COMPLETE", "TABLE", "TACHOMETER", "TAG_READER"]

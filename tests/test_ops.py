@@ -55,6 +55,38 @@ class TestSharedSemantics:
             o.const("x")
 
 
+class TestTableLookup:
+    """``select`` and ``find`` are the same total functions in every backend."""
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_select_and_find_agree(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        table = (o.const(5), o.const(6), o.const(7))
+        assert [read(o.select(table, o.const(j))) for j in range(3)] == [5, 6, 7]
+        # outside 0 .. n-1, or not whole: the last value
+        assert [read(o.select(table, o.const(j))) for j in ("-1", "3", "0.5")] == [7, 7, 7]
+        assert read(o.select((o.const_bool(True), o.const_bool(False)), o.const(0))) is True
+        found, index = o.find((o.const(4), o.const(9), o.const(4)), o.const(4))
+        assert (read(found), read(index)) == (True, 0)  # the first match
+        found, index = o.find(table, o.const(8))
+        assert (read(found), read(index)) == (False, 0)
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_empty_table_refused(self, name):
+        o = backends()[name]
+        with pytest.raises(ValueError, match="select: the table is empty"):
+            o.select((), o.const(0))
+        with pytest.raises(ValueError, match="find: the table is empty"):
+            o.find((), o.const(0))
+
+    def test_float_batch(self):
+        picked = FLOAT.select((5.0, 6.0, 7.0), np.array([0.0, 2.0, 5.0, 1.5]))
+        assert picked.tolist() == [5.0, 7.0, 7.0, 7.0]
+        found, index = FLOAT.find((5.0, 6.0, 7.0), np.array([7.0, 1.0, 6.0]))
+        assert found.tolist() == [True, False, True] and index.tolist() == [2.0, 0.0, 1.0]
+
+
 class TestSortByKey:
     KEYS = (3, 1, 2, 1, 0, 3)
     TAGS = ("a", "b", "c", "d", "e", "f")  # which input each key came from: ties keep their order

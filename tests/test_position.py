@@ -71,6 +71,16 @@ MUTANTS = {
     "position.eb_while_invalid": (
         position_loop.position_loop_step, "i.eb_release, position.position_valid)", "i.eb_release, o.const_bool(True))",
     ),
+    # the first tag after power-up taken for the tag after the last one read
+    "position.front_between_lrt_and_next": (
+        position.position_step,
+        "lrt_index = o.ite(reset, read_index, s.lrt_index)",
+        "lrt_index = o.ite(reset, next_index, s.lrt_index)",
+    ),
+    # the plausibility check without the tachometer error's slack: false alarms under tachometer noise
+    "position.no_false_alarm": (
+        position.implausible_increment, "slack = p.tacho_error * (tacho_m + last_m)", "slack = o.const(0)",
+    ),
     # standstill detected below 1 m per cycle: EB released while creeping
     "position.eb_held_while_moving": (
         position.position_step, "standstill=o.eq(i.tacho_m, zero)", "standstill=i.tacho_m < o.const(1)",
