@@ -57,7 +57,8 @@ class TestProve:
         report = tmp_path / "r.json"
         assert main(["prove", "--only", "supervision.eb_*", "--json", str(report)]) == 0
         names = [p["name"] for p in json.loads(report.read_text())["properties"]]
-        assert names == ["supervision.eb_above_ebi", "supervision.eb_latched_until_standstill"]
+        assert names == ["supervision.eb_above_ebi", "supervision.eb_latched_until_standstill",
+                         "supervision.eb_without_position"]
 
     def test_parallel_jobs_give_the_same_verdicts(self, tmp_path):
         report = tmp_path / "r.json"

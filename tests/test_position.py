@@ -179,6 +179,10 @@ class TestTagTables:
         with pytest.raises(TagTableError, match="cannot read the tag table"):
             read_tag_table(tmp_path / "missing.csv")
 
+    def test_pulses_to_distance(self):
+        # 100 pulses per revolution on an 860 mm wheel: one revolution is pi * 0.86 m
+        assert position.tacho_distance_m(250, 0.86, 100) == pytest.approx(2.5 * 3.141592653589793 * 0.86)
+
     def test_csv_round_trip(self, tmp_path):
         path = tmp_path / "tags.csv"
         path.write_text("id,position_m\n1,0\n11,100.5\n")

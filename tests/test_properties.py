@@ -21,7 +21,8 @@ class TestRegistry:
             assert prop.requirement and prop.seed and prop.text.endswith("."), prop.name
 
     def test_select_by_glob(self):
-        assert select("supervision.eb_*") == [EB, PROPERTIES["supervision.eb_latched_until_standstill"]]
+        assert select("supervision.eb_*") == [EB, PROPERTIES["supervision.eb_latched_until_standstill"],
+                                              PROPERTIES["supervision.eb_without_position"]]
         assert select("nosuch.*") == []
         assert select() == list(PROPERTIES.values())
 
