@@ -7,7 +7,16 @@ from __future__ import annotations
 
 import fnmatch
 
-from atcs.properties import closed_loop, curves, deceleration, mrsp, position, preprocessing, supervision
+from atcs.properties import (
+    closed_loop,
+    curves,
+    deceleration,
+    mrsp,
+    position,
+    preprocessing,
+    resources,
+    supervision,
+)
 from atcs.properties.property import Assumption, Property
 
 
@@ -27,7 +36,7 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
-    curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES,
+    curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
 )
 
 

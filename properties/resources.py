@@ -1,0 +1,105 @@
+"""Properties of resource request and release (seed 001 §3.2, Fig. 5).
+
+Over :data:`~atcs.model.resources.RESOURCES` with 3 trains and 3 resources: any
+train behaviour that follows the procedure (which resources to request or release
+is free), and any delivery of the messages in flight: any delay, any order across
+trains and resources (each (train, resource) exchange is one request or release
+and its reply). No assumptions.
+"""
+
+from __future__ import annotations
+
+from atcs.model.resources import (
+    CONFIRM,
+    FREE,
+    GRANT,
+    HELD,
+    NO_MESSAGE,
+    REFUSE,
+    RELEASE,
+    RELEASING,
+    REQUEST,
+    REQUESTED,
+    RESOURCES,
+    slot_count,
+)
+from atcs.properties.property import Property
+
+
+def _slots(s):
+    trains, resources = slot_count(s)
+    return [(train * resources + r, train, r) for train in range(trains) for r in range(resources)]
+
+
+def _consistent(o, p, s, i, out, nxt):
+    trains, _ = slot_count(s)
+
+    def is_(value, c):
+        return o.eq(value, o.const(c))
+
+    facts = [o.or_(*(is_(owner, t) for t in range(trains + 1))) for owner in s.owner]
+    for j, train, r in _slots(s):
+        own, up, down = is_(s.owner[r], train + 1), s.up[j], s.down[j]
+        quiet = o.and_(is_(up, NO_MESSAGE), is_(down, NO_MESSAGE))
+        facts.append(o.or_(
+            o.and_(is_(s.holding[j], FREE), quiet, o.not_(own)),
+            o.and_(is_(s.holding[j], REQUESTED), o.or_(
+                o.and_(is_(up, REQUEST), is_(down, NO_MESSAGE), o.not_(own)),
+                o.and_(is_(up, NO_MESSAGE), is_(down, GRANT), own),
+                o.and_(is_(up, NO_MESSAGE), is_(down, REFUSE), o.not_(own)),
+            )),
+            o.and_(is_(s.holding[j], HELD), quiet, own),
+            o.and_(is_(s.holding[j], RELEASING), o.or_(
+                o.and_(is_(up, RELEASE), is_(down, NO_MESSAGE), own),
+                o.and_(is_(up, NO_MESSAGE), is_(down, CONFIRM), o.not_(own)),
+            )),
+        ))
+    return o.and_(*facts)
+
+
+def _mutual_exclusion(o, p, s, i, out, nxt):
+    trains, resources = slot_count(s)
+    return o.and_(*(
+        o.not_(o.and_(out.held[a * resources + r], out.held[b * resources + r]))
+        for r in range(resources) for a in range(trains) for b in range(a + 1, trains)
+    ))
+
+
+def _manager_records_holder(o, p, s, i, out, nxt):
+    return o.and_(*(o.implies(out.held[j], o.eq(nxt.owner[r], o.const(train + 1))) for j, train, r in _slots(s)))
+
+
+PROPERTIES = (
+    Property(
+        name="resources.protocol_consistent",
+        requirement="RES-00",
+        seed="001 §3.2 (Fig. 5)",
+        text=(
+            "The manager's owner of each resource agrees with every train's view and the messages in flight: a "
+            "train holds a resource, has a grant for it in flight, or has its release in flight exactly when the "
+            "manager records it as the owner."
+        ),
+        node=RESOURCES,
+        holds=_consistent,
+    ),
+    Property(
+        name="resources.mutual_exclusion",
+        requirement="RES-01",
+        seed="001 §3.2 (Fig. 5)",
+        text="No resource is held by two trains at once, whatever the delays and the order of the messages.",
+        node=RESOURCES,
+        holds=_mutual_exclusion,
+        lemmas=("resources.protocol_consistent",),
+    ),
+    Property(
+        name="resources.manager_records_holder",
+        requirement="RES-02",
+        seed="001 §3.2",
+        text="A train holds a resource only while the resource manager records it as the owner.",
+        node=RESOURCES,
+        holds=_manager_records_holder,
+        lemmas=("resources.protocol_consistent",),
+    ),
+)
+
+__all__ = ["PROPERTIES"]
