@@ -4,6 +4,7 @@
 under every backend.
 """
 
+from atcs.model.authority import AUTHORITY
 from atcs.model.closed_loop import CLOSED_LOOP
 from atcs.model.curves import CURVES
 from atcs.model.deceleration import DECELERATION
@@ -17,6 +18,7 @@ from atcs.model.resources import RESOURCES
 from atcs.model.supervision import SUPERVISION
 
 NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
-                                                         CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES)}
+                                                         CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
+                                                         AUTHORITY)}
 
 __all__ = ["NODES", "Node"]

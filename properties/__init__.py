@@ -8,6 +8,7 @@ from __future__ import annotations
 import fnmatch
 
 from atcs.properties import (
+    authority,
     closed_loop,
     curves,
     deceleration,
@@ -37,6 +38,7 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
     curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
+    authority.PROPERTIES,
 )
 
 

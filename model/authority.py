@@ -1,0 +1,152 @@
+"""Onboard resource management and the movement authority (seed 001 §3.2-3.3, Fig. 6 and 8; seed 000 §2.2;
+seed 002 §4.2).
+
+Each cycle, from the train's position interval, the resources it holds (the
+protocol of :mod:`atcs.model.resources`), the object controller's switch reports,
+the preceding train's last T2T report, any protection zone and the line data:
+
+- ``dRequestResource = min(end of line, max safe front + MAX_MA)``: the resources
+  overlapping ``[max safe front, dRequestResource)`` that are not held are requested;
+- a held resource is released once it lies wholly behind the min safe rear;
+- a held switch not reported locked in the route's direction is commanded to it;
+- ``dLockedResource``: the start of the first resource ahead of the max safe front that
+  is not held, or is a switch not yet reported locked in the route's direction (seed
+  001: the MA extends over a switch only once it has been turned); the route's end if
+  none;
+- the preceding train's stopping point: its reported min safe rear plus the distance
+  it needs to stop from its reported min speed at its *highest* deceleration
+  (``leader_max_deceleration_mps2``: a train can stop faster than its guaranteed
+  braking, so the follower must assume the shortest stop), less the safety margin;
+  in brick-wall mode (absolute braking distance) the reported rear itself. The
+  report does not need ageing: as time passes the leader can only be further on
+  and its earliest stopping point cannot move back. A report older than
+  ``report_timeout_s`` is presumed lost with the link: the MA falls back to the
+  reported rear, which holds even if the leader stopped dead (a derailment);
+- the end of authority (dMA) is the least of ``dLockedResource``, the leader's
+  stopping point, the start of an active protection zone (set by the ATS), the end
+  of line and the max safe front + MAX_MA; the target speed there (vMA) is 0.
+  (The preceding train's speed as vMA, seed 003's radio case, is left to the ATO's target speed.)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Generic
+
+from atcs.model.curves import FAR_M, MIN_SPAN
+from atcs.model.node import Node, Stateless, always
+from atcs.model.ops import B, N, Ops
+
+PROOF_ROUTE_RESOURCES = 8
+"""The route capacity the proofs cover (every resource's extent, kind and direction symbolic)."""
+
+
+@dataclass(frozen=True)
+class AuthorityParams(Generic[N, B]):
+    resource_start_m: tuple[N, ...]
+    resource_end_m: tuple[N, ...]
+    resource_is_switch: tuple[B, ...]
+    switch_needs_reverse: tuple[B, ...]
+    """For a switch: the route needs it reversed (else normal)."""
+    line_end_m: N
+    max_ma_m: N
+    """MAX_MA: how far ahead of the max safe front an MA may reach (seed 002: 1.5 km)."""
+    leader_max_deceleration_mps2: N
+    """The preceding train's *highest* possible deceleration (emergency brake and the steepest uphill): the
+    relative-braking assumption."""
+    safety_margin_m: N
+    """Kept between the end of authority and the leader's stopping point (seed 001 Fig. 6)."""
+    report_timeout_s: N
+    brick_wall: B
+    """Absolute braking distance: the leader's reported rear is the target, with no credit for its speed."""
+
+
+@dataclass(frozen=True)
+class AuthorityInputs(Generic[N, B]):
+    front_max_m: N
+    rear_min_m: N
+    held: tuple[B, ...]
+    switch_locked: tuple[B, ...]
+    """The object controller reports the switch locked in a position."""
+    switch_reversed: tuple[B, ...]
+    """That position is reverse (else normal)."""
+    leader_known: B
+    """A T2T report from the preceding train has been received."""
+    leader_rear_m: N
+    """Its reported min safe rear."""
+    leader_speed_mps: N
+    """Its reported min speed (estimate less accuracy)."""
+    report_age_s: N
+    """Time since the report's timestamp."""
+    zone_active: B
+    zone_start_m: N
+    """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2)."""
+
+
+@dataclass(frozen=True)
+class AuthorityOutputs(Generic[N, B]):
+    request: tuple[B, ...]
+    release: tuple[B, ...]
+    switch_command: tuple[B, ...]
+    """Command the switch to the route's direction."""
+    d_request_m: N
+    d_locked_m: N
+    leader_stop_m: N
+    eoa_m: N
+    """dMA. vMA, the target speed there, is always 0: each limit is a point to stop at."""
+
+
+def confirmed(o: Ops, p: AuthorityParams, i: AuthorityInputs, r: int):
+    """Resource ``r`` is not a switch, or is reported locked in the route's direction."""
+    in_direction = o.eq(i.switch_reversed[r], p.switch_needs_reverse[r])
+    return o.or_(o.not_(p.resource_is_switch[r]), o.and_(i.switch_locked[r], in_direction))
+
+
+def locked_end_m(o: Ops, p: AuthorityParams, i: AuthorityInputs):
+    """``dLockedResource``: the start of the first resource ahead that is not held or not confirmed."""
+    locked = p.resource_end_m[-1]
+    for r in reversed(range(len(p.resource_end_m))):
+        blocked = o.or_(o.not_(i.held[r]), o.not_(confirmed(o, p, i, r)))
+        locked = o.ite(o.and_(blocked, p.resource_end_m[r] > i.front_max_m), p.resource_start_m[r], locked)
+    return locked
+
+
+def leader_stop_m(o: Ops, p: AuthorityParams, i: AuthorityInputs):
+    """Where the preceding train stops at the earliest, less the safety margin (FAR_M if there is none)."""
+    deceleration = o.max(p.leader_max_deceleration_mps2, o.const(MIN_SPAN))  # a guard valid data never meets
+    rbd = i.leader_rear_m + i.leader_speed_mps * i.leader_speed_mps / (o.const(2) * deceleration)
+    certain_only = o.or_(p.brick_wall, i.report_age_s > p.report_timeout_s)
+    stop = o.ite(certain_only, i.leader_rear_m, rbd) - p.safety_margin_m
+    return o.ite(i.leader_known, stop, o.const(FAR_M))
+
+
+def authority_step(o: Ops, p: AuthorityParams, s: Stateless, i: AuthorityInputs):
+    """One cycle of resource management and MA computation (module docstring)."""
+    d_request = o.min(p.line_end_m, i.front_max_m + p.max_ma_m)
+    resources = range(len(p.resource_end_m))
+    request = tuple(
+        o.and_(o.not_(i.held[r]), p.resource_end_m[r] > i.front_max_m, p.resource_start_m[r] < d_request)
+        for r in resources
+    )
+    release = tuple(o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m) for r in resources)
+    switch_command = tuple(o.and_(i.held[r], o.not_(confirmed(o, p, i, r))) for r in resources)
+    d_locked = locked_end_m(o, p, i)
+    leader = leader_stop_m(o, p, i)
+    zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))
+    eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)
+    return s, AuthorityOutputs(request, release, switch_command, d_request, d_locked, leader, eoa)
+
+
+AUTHORITY = Node(
+    name="authority",
+    params=AuthorityParams,
+    state=Stateless,
+    inputs=AuthorityInputs,
+    outputs=AuthorityOutputs,
+    init=always,
+    step=authority_step,
+    seed="001 §3.2-3.3 (Fig. 6, 8), 000 §2.2, 002 §4.2",
+    sizes={name: PROOF_ROUTE_RESOURCES for name in (
+        "resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse", "held",
+        "switch_locked", "switch_reversed", "request", "release", "switch_command")},
+)

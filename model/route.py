@@ -1,0 +1,145 @@
+"""A train's route as resources: track sections and switches in the order it runs over them (seed 001 §3.2,
+Fig. 6; seed 000 §2.2).
+
+Each resource covers ``[start_m, end_m)`` in route coordinates (the direction of
+travel), contiguous from one to the next; a switch also names the direction the
+route needs it in (``normal`` or ``reverse``). Loaded from TOML::
+
+    line_end_m = 3000
+    [[resource]]
+    id = 1
+    kind = "track"
+    start_m = 0
+    end_m = 500
+    [[resource]]
+    id = 2
+    kind = "switch"
+    start_m = 500
+    end_m = 560
+    direction = "reverse"
+
+:func:`route` and :func:`read_route` reject malformed data with a :class:`RouteError`
+naming the file, the resource, the field and the value.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+
+KINDS = ("track", "switch")
+DIRECTIONS = ("normal", "reverse")
+
+
+class RouteError(ValueError):
+    """Malformed route or switch data; the message names the source, the resource, the field and the value."""
+
+
+@dataclass(frozen=True)
+class Resource:
+    id: int
+    kind: str
+    start_m: Fraction
+    end_m: Fraction
+    direction: str | None = None
+    """For a switch: the direction the route needs (``normal`` or ``reverse``)."""
+
+    @property
+    def is_switch(self) -> bool:
+        return self.kind == "switch"
+
+
+@dataclass(frozen=True)
+class Route:
+    resources: tuple[Resource, ...]
+    line_end_m: Fraction
+
+    def __len__(self) -> int:
+        return len(self.resources)
+
+
+def _number(where: str, field: str, raw) -> Fraction:
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str, Fraction)):
+        raise RouteError(f"{where}: {field} = {raw!r} is not a number")
+    if isinstance(raw, float) and not math.isfinite(raw):
+        raise RouteError(f"{where}: {field} = {raw!r} is not finite")
+    try:
+        return Fraction(raw.strip() if isinstance(raw, str) else raw)
+    except (ValueError, ZeroDivisionError):
+        raise RouteError(f"{where}: {field} = {raw!r} is not a number") from None
+
+
+def route(source: str, resources: Sequence[Mapping], line_end_m) -> Route:
+    """A validated :class:`Route` (see the module docstring), or a :class:`RouteError`."""
+    if not resources:
+        raise RouteError(f"{source}: a route needs at least one resource")
+    checked: list[Resource] = []
+    ids: dict[int, int] = {}
+    for k, entry in enumerate(resources):
+        where = f"{source}: resource {k}"
+        if not isinstance(entry, Mapping):
+            raise RouteError(f"{where}: expected a table of fields, got {entry!r}")
+        unknown = sorted(set(entry) - {"id", "kind", "start_m", "end_m", "direction"})
+        if unknown:
+            raise RouteError(f"{where}: unknown field {unknown[0]!r} (fields: id, kind, start_m, end_m, direction)")
+        for field in ("id", "kind", "start_m", "end_m"):
+            if field not in entry:
+                raise RouteError(f"{where}: {field} is missing")
+        raw_id = entry["id"]
+        if isinstance(raw_id, bool) or not isinstance(raw_id, int):
+            raise RouteError(f"{where}: id = {raw_id!r} is not a whole number")
+        if raw_id in ids:
+            raise RouteError(f"{where}: id = {raw_id!r} duplicates the id of resource {ids[raw_id]}")
+        ids[raw_id] = k
+        kind = entry["kind"]
+        if kind not in KINDS:
+            raise RouteError(f"{where}: kind = {kind!r} is not one of {', '.join(KINDS)}")
+        start, end = _number(where, "start_m", entry["start_m"]), _number(where, "end_m", entry["end_m"])
+        if k == 0 and start < 0:
+            raise RouteError(f"{where}: start_m = {entry['start_m']!r} is negative")
+        if checked and start != checked[-1].end_m:
+            raise RouteError(
+                f"{where}: start_m = {entry['start_m']!r} does not continue resource {k - 1}, which ends at "
+                f"{checked[-1].end_m} (resources must be contiguous along the route)"
+            )
+        if end <= start:
+            raise RouteError(f"{where}: end_m = {entry['end_m']!r} is not after start_m = {entry['start_m']!r}")
+        direction = entry.get("direction")
+        if kind == "switch" and direction not in DIRECTIONS:
+            raise RouteError(f"{where}: a switch needs direction = 'normal' or 'reverse', got {direction!r}")
+        if kind == "track" and direction is not None:
+            raise RouteError(f"{where}: direction = {direction!r} is given for a track resource (only switches)")
+        checked.append(Resource(raw_id, kind, start, end, direction))
+    end_of_line = _number(source, "line_end_m", line_end_m)
+    if not checked[0].start_m < end_of_line <= checked[-1].end_m:
+        raise RouteError(
+            f"{source}: line_end_m = {line_end_m!r} is not within the route "
+            f"({checked[0].start_m}, {checked[-1].end_m}]"
+        )
+    return Route(tuple(checked), end_of_line)
+
+
+def read_route(path: str | Path) -> Route:
+    """A route from a TOML file (see the module docstring)."""
+    path = Path(path)
+    try:
+        doc = tomllib.loads(path.read_text())
+    except OSError as exc:
+        raise RouteError(f"{path}: cannot read the route: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise RouteError(f"{path}: the route is not UTF-8 text") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise RouteError(f"{path}: not valid TOML: {exc}") from None
+    unknown = sorted(set(doc) - {"resource", "line_end_m"})
+    if unknown:
+        raise RouteError(f"{path}: unknown key {unknown[0]!r} (keys: line_end_m, [[resource]])")
+    if "line_end_m" not in doc:
+        raise RouteError(f"{path}: line_end_m is missing")
+    resources = doc.get("resource", [])
+    if not isinstance(resources, list):
+        raise RouteError(f"{path}: resource must be an array of tables ([[resource]]), got {resources!r}")
+    return route(str(path), resources, doc["line_end_m"])
