@@ -15,10 +15,11 @@ from atcs.model.position import POSITION
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
+from atcs.model.separation import TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
 
 NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
                                                          CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
-                                                         AUTHORITY)}
+                                                         AUTHORITY, TWO_TRAINS)}
 
 __all__ = ["NODES", "Node"]

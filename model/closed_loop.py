@@ -84,12 +84,12 @@ def worst_acceleration_mps2(o: Ops, p: ClosedLoopParams):
     return p.max_acceleration_mps2 + o.max(o.const(0), *downhill)
 
 
-def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
-    """One ATP cycle: returns (next supervision state, commands)."""
+def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs, eoa_m):
+    """One ATP cycle against the end of authority ``eoa_m``: returns (next supervision state, commands, curve)."""
     front = i.measured_front_m + p.position_error_m
     speed = i.measured_speed_mps
     zero = o.const(0)
-    target = Target(p.eoa_m, zero, zero)
+    target = Target(eoa_m, zero, zero)
     curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
     over = exceedances(o, curve, ceiling, front, speed)
     # the measurement assumption (front within position_error_m of the truth) is what a valid position gives
@@ -104,7 +104,7 @@ def closed_loop_init(o: Ops, p: ClosedLoopParams, s: ClosedLoopState):
 
 
 def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
-    atp, commands, curve = atp_cycle(o, p, s, i)
+    atp, commands, curve = atp_cycle(o, p, s, i, p.eoa_m)
     plant = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     state = ClosedLoopState(
         front_m=plant.front_m, speed_mps=plant.speed_mps, brake_cycles=plant.brake_cycles,
@@ -118,7 +118,7 @@ def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedL
 
 def closed_loop_admits(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
     """The plant's bounds for this cycle's motion, under the command the ATP gives."""
-    _, commands, _ = atp_cycle(o, p, s, i)
+    _, commands, _ = atp_cycle(o, p, s, i, p.eoa_m)
     return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
 
 

@@ -16,6 +16,7 @@ from atcs.properties import (
     position,
     preprocessing,
     resources,
+    separation,
     supervision,
 )
 from atcs.properties.property import Assumption, Property
@@ -38,7 +39,7 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
     curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
-    authority.PROPERTIES,
+    authority.PROPERTIES, separation.PROPERTIES,
 )
 
 

@@ -154,36 +154,49 @@ def ebi_ceiling_mps(o, p):
     return ceilings(o, p, p.mrsp_mps).ebi_mps
 
 
-def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
-    """The four closed-loop properties for one set of fixed data (:func:`preset_data`), named ``*_<preset>``."""
+def whole_cycles(preset: str, fixed: dict) -> tuple[int, int]:
+    """The plant's traction cut-off and brake build-up delays of a preset, in whole cycles."""
     for name in ("traction_cut_cycles", "brake_build_up_cycles"):
         if Fraction(fixed[name]).denominator != 1:
             raise ValueError(f"closed-loop preset {preset}: {name} = {fixed[name]} is not a whole number of cycles")
-    n_t, n_be = int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])
+    return int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])
 
-    def braking_invariant(o, p, s, i, out, nxt):
-        zero = o.const(0)
-        target = Target(p.eoa_m, zero, zero)
-        gradient = plant_gradient(p)
-        cases = []
-        for c in range(n_be):
-            front, speed = worst_case_at_brake(o, p, s.front_m, s.speed_mps, c, n_t, n_be)
-            cases.append(o.and_(
-                o.eq(s.brake_cycles, o.const(c)),
-                front <= p.eoa_m, front <= ebd_location_m(o, p, p, gradient, target, speed),
-                s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, c, n_t),
-            ))
-        braking = o.and_(
-            o.eq(s.brake_cycles, o.const(n_be)), s.eb_latched,
-            s.front_m <= p.eoa_m, s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
-            s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, n_be, n_t),
-        )
-        return o.and_(s.speed_mps >= zero, o.or_(*cases, braking))
+
+def braking_invariant(o, p, s, eoa_m, n_t: int, n_be: int):
+    """CL-00's invariant for the end of authority ``eoa_m`` (module docstring)."""
+    zero = o.const(0)
+    target = Target(eoa_m, zero, zero)
+    gradient = plant_gradient(p)
+    cases = []
+    for c in range(n_be):
+        front, speed = worst_case_at_brake(o, p, s.front_m, s.speed_mps, c, n_t, n_be)
+        cases.append(o.and_(
+            o.eq(s.brake_cycles, o.const(c)),
+            front <= eoa_m, front <= ebd_location_m(o, p, p, gradient, target, speed),
+            s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, c, n_t),
+        ))
+    braking = o.and_(
+        o.eq(s.brake_cycles, o.const(n_be)), s.eb_latched,
+        s.front_m <= eoa_m, s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
+        s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, n_be, n_t),
+    )
+    return o.and_(s.speed_mps >= zero, o.or_(*cases, braking))
+
+
+def brake_cycle_cases(n_be: int):
+    """``Property.cases``: one inductive-step case per value of the EB-command counter."""
 
     def by_brake_cycles(o, p, s):
         return tuple(o.eq(s.brake_cycles, o.const(c)) for c in range(n_be + 1))
 
-    common = dict(node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed, cases=by_brake_cycles)
+    return by_brake_cycles
+
+
+def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
+    """The four closed-loop properties for one set of fixed data (:func:`preset_data`), named ``*_<preset>``."""
+    n_t, n_be = whole_cycles(preset, fixed)
+
+    common = dict(node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed, cases=brake_cycle_cases(n_be))
     invariant = f"closed_loop.braking_invariant_{preset}"
     return (
         Property(
@@ -196,7 +209,7 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "within the ceiling margin for c; with the brake effective, the true speed is under the EBD "
                 "at the true front."
             ),
-            holds=braking_invariant,
+            holds=lambda o, p, s, i, out, nxt: braking_invariant(o, p, s, p.eoa_m, n_t, n_be),
             **common,
         ),
         Property(

@@ -163,7 +163,7 @@ def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
             measured_front_m=s.front_m + error_m, measured_speed_mps=max(Fraction(0), s.speed_mps + error_mps),
             standstill=s.speed_mps == 0, eb_release=s.speed_mps == 0 and eb_cycles == 0,
             next_speed_mps=Fraction(0), distance_m=Fraction(0))
-        _, commands, _ = closed_loop.atp_cycle(EXACT, params, s, measured)
+        _, commands, _ = closed_loop.atp_cycle(EXACT, params, s, measured, params.eoa_m)
         eb_cycles += commands.emergency_brake
         next_speed, distance = _worst_case_driver(params, s, measured.measured_speed_mps, commands.emergency_brake)
         monitor.step(dataclasses.replace(measured, next_speed_mps=next_speed, distance_m=distance))
