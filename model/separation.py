@@ -2,21 +2,30 @@
 T2T reports give, the follower's plant, the leader's motion and the report channel (seed 001 §3.2 Fig. 6,
 seed 000 §2.2 and §2.5).
 
-Brick-wall mode (absolute braking distance): each report carries the leader's min safe
-rear at the time it was sent; a report arrives after any delay (reports may also be
-lost or overtaken). A report describes a past state, and the leader never moves
-backward, so every report is a lower bound on the leader's current rear: the
-follower keeps the largest one received (``best_rear_m``, never lowered, so a late
-report overtaken by a newer one does no harm) and supervises the end of authority
-``best_rear_m - safety_margin_m`` with the closed loop's ATP
-(:func:`~atcs.model.closed_loop.atp_cycle`). The leader moves forward in any way.
+Each report carries the leader's min safe rear and min speed at the time it was sent;
+it arrives after any delay (reports may also be lost or overtaken). A report
+describes a past state, so it bounds the leader's present from below:
+
+- its rear: the leader never moves backward;
+- its earliest stopping point ``rear + v^2 / (2 * leader_max_deceleration_mps2)``: the
+  leader never decelerates harder than that, so this point never moves back either.
+
+The follower keeps the largest of each bound received (``best_rear_m``,
+``best_stop_m``: never lowered, so a late report overtaken by a newer one does no
+harm) and supervises, with the closed loop's ATP
+(:func:`~atcs.model.closed_loop.atp_cycle`), the end of authority ``best_stop_m`` less
+the safety margin in relative-braking mode, ``best_rear_m`` less the margin in
+brick-wall mode (absolute braking distance) or when no report has arrived for longer
+than ``report_timeout_s`` (what is certain even if the leader stopped dead).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Generic
 
 from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle
+from atcs.model.curves import MIN_SPAN
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import PlantParams, PlantState, plant_admits, plant_init, plant_next
@@ -32,7 +41,12 @@ class TwoTrainParams(PlantParams[N, B], TrainData[N, B], NationalData[N, B]):
     position_error_m: N
     """The follower's odometry bound."""
     safety_margin_m: N
-    """Kept between the follower's end of authority and the leader's reported rear (seed 001 Fig. 6)."""
+    """Kept between the follower's end of authority and the leader's stopping point or rear (seed 001 Fig. 6)."""
+    leader_max_deceleration_mps2: N
+    """The leader's *highest* possible deceleration: a train can stop faster than its guaranteed braking."""
+    report_timeout_s: N
+    brick_wall: B
+    """Absolute braking distance: the leader's rear is the target, with no credit for its speed."""
 
 
 @dataclass(frozen=True)
@@ -42,8 +56,15 @@ class TwoTrainState(PlantState[N, B], SupervisionState[N, B]):
     leader_rear_m: N
     """The leader's true rear."""
     leader_speed_mps: N
+    leader_stop_m: N
+    """Where the leader would stop at the earliest from its true state (a ghost for the proofs: the ATP never
+    reads it)."""
     best_rear_m: N
     """The largest leader rear reported to the follower so far."""
+    best_stop_m: N
+    """The largest earliest stopping point of the leader reported so far."""
+    since_report_s: N
+    """Time since the last report arrived."""
 
 
 @dataclass(frozen=True)
@@ -57,6 +78,8 @@ class TwoTrainInputs(ClosedLoopInputs[N, B]):
     """A T2T report from the leader arrives this cycle."""
     report_rear_m: N
     """The min safe rear it reports (at the time it was sent)."""
+    report_speed_mps: N
+    """The min speed it reports (at the time it was sent)."""
 
 
 @dataclass(frozen=True)
@@ -65,38 +88,60 @@ class TwoTrainOutputs(SupervisionOutputs[N, B]):
     """The follower's end of authority this cycle."""
 
 
-def follower_eoa_m(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs):
-    """``(best reported rear after this cycle's report, end of authority)``."""
-    best = o.ite(i.report_delivered, o.max(s.best_rear_m, i.report_rear_m), s.best_rear_m)
-    return best, best - p.safety_margin_m
+def stopping_point_m(o: Ops, p: TwoTrainParams, rear_m, speed_mps):
+    """Where a leader at ``rear_m`` and ``speed_mps`` stops at the earliest (its highest deceleration)."""
+    deceleration = o.max(p.leader_max_deceleration_mps2, o.const(MIN_SPAN))  # a guard valid data never meets
+    return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
+
+
+@dataclass(frozen=True)
+class Reports(Generic[N]):
+    best_rear_m: N
+    best_stop_m: N
+    since_report_s: N
+    eoa_m: N
+
+
+def follower_eoa_m(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs) -> Reports:
+    """The bounds kept after this cycle's report, and the end of authority they give."""
+    arrived = i.report_delivered
+    rear = o.ite(arrived, o.max(s.best_rear_m, i.report_rear_m), s.best_rear_m)
+    stop = o.ite(arrived, o.max(s.best_stop_m, stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps)),
+                 s.best_stop_m)
+    since = o.ite(arrived, o.const(0), s.since_report_s + p.cycle_s)
+    certain_only = o.or_(p.brick_wall, since > p.report_timeout_s)
+    return Reports(rear, stop, since, o.ite(certain_only, rear, stop) - p.safety_margin_m)
 
 
 def two_train_init(o: Ops, p: TwoTrainParams, s: TwoTrainState):
     """The follower at standstill with EB applied behind the end of authority its first report gives."""
     return o.and_(supervision_init(o, p, s), plant_init(o, p, s), s.leader_speed_mps >= o.const(0),
-                  s.best_rear_m <= s.leader_rear_m, s.front_m <= s.best_rear_m - p.safety_margin_m)
+                  o.eq(s.leader_stop_m, stopping_point_m(o, p, s.leader_rear_m, s.leader_speed_mps)),
+                  s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m,
+                  s.best_rear_m <= s.best_stop_m, o.eq(s.since_report_s, o.const(0)),
+                  s.front_m <= s.best_rear_m - p.safety_margin_m, s.front_m < s.leader_rear_m)
 
 
 def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs):
-    best, eoa = follower_eoa_m(o, p, s, i)
-    atp, commands, _ = atp_cycle(o, p, s, i, eoa)
+    reports = follower_eoa_m(o, p, s, i)
+    atp, commands, _ = atp_cycle(o, p, s, i, reports.eoa_m)
     follower = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     state = TwoTrainState(
         front_m=follower.front_m, speed_mps=follower.speed_mps, brake_cycles=follower.brake_cycles,
         eb_latched=atp.eb_latched, sb_latched=atp.sb_latched,
         leader_rear_m=s.leader_rear_m + i.leader_distance_m, leader_speed_mps=i.leader_next_speed_mps,
-        best_rear_m=best,
+        leader_stop_m=stopping_point_m(o, p, s.leader_rear_m + i.leader_distance_m, i.leader_next_speed_mps),
+        best_rear_m=reports.best_rear_m, best_stop_m=reports.best_stop_m, since_report_s=reports.since_report_s,
     )
     return state, TwoTrainOutputs(
         warning=commands.warning, service_brake=commands.service_brake, emergency_brake=commands.emergency_brake,
-        traction_cut=commands.traction_cut, eoa_m=eoa,
+        traction_cut=commands.traction_cut, eoa_m=reports.eoa_m,
     )
 
 
 def two_train_admits(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs):
     """The follower's plant bounds for this cycle's motion, under the command its ATP gives."""
-    _, eoa = follower_eoa_m(o, p, s, i)
-    _, commands, _ = atp_cycle(o, p, s, i, eoa)
+    _, commands, _ = atp_cycle(o, p, s, i, follower_eoa_m(o, p, s, i).eoa_m)
     return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
 
 
@@ -112,4 +157,4 @@ TWO_TRAINS = Node(
     sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
            "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1},
 )
-"""Follower ATP + follower plant + leader + T2T channel, brick-wall mode, for proofs."""
+"""Follower ATP + follower plant + leader + T2T channel, for proofs."""

@@ -16,9 +16,10 @@ ATP supervises the best reported rear less the margin, which is never ahead of i
 
 from __future__ import annotations
 
-from atcs.model.plant import plant_gradient
+from atcs.model.curves import MIN_SPAN
+from atcs.model.plant import gradient_braking_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
-from atcs.model.separation import TWO_TRAINS, two_train_admits
+from atcs.model.separation import TWO_TRAINS, stopping_point_m, two_train_admits
 from atcs.properties.closed_loop import (
     MEASUREMENT,
     PRESETS,
@@ -55,11 +56,53 @@ LEADER = Assumption(
     lambda o, p, s, i: o.and_(i.leader_distance_m >= o.const(0), i.leader_next_speed_mps >= o.const(0)),
 )
 
+
+def _leader_braking(o, p, s, i):
+    d, dt, v, v_next, x = p.leader_max_deceleration_mps2, p.cycle_s, s.leader_speed_mps, i.leader_next_speed_mps, \
+        i.leader_distance_m
+    two = o.const(2)
+    return o.and_(
+        d >= o.const(MIN_SPAN),
+        v_next * v_next >= v * v - two * d * x,
+        o.or_(x >= v * dt - d * dt * dt / two, o.and_(o.eq(v_next, o.const(0)), two * d * x >= v * v)),
+    )
+
+
+LEADER_BRAKING = Assumption(
+    "leader_braking",
+    "the leader never decelerates harder than leader_max_deceleration_mps2: over a cycle it runs at least the "
+    "distance of braking that hard (for the cycle, or to a stop), and its speed falls by no more than that "
+    "deceleration over the distance",
+    _leader_braking,
+)
+
+
+def _report(o, p, s, i):
+    return o.implies(i.report_delivered, o.and_(
+        i.report_rear_m <= s.leader_rear_m, i.report_speed_mps >= o.const(0),
+        stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m,
+    ))
+
+
 REPORT = Assumption(
     "report",
-    "a report describes a past state of the leader: its min safe rear is at most the leader's current true rear "
-    "(reports may arrive after any delay, out of order, or not at all)",
-    lambda o, p, s, i: o.implies(i.report_delivered, i.report_rear_m <= s.leader_rear_m),
+    "a report describes a past state of the leader: its min safe rear is at most the leader's current rear and "
+    "its earliest stopping point at most the current one (the leader never moves backward nor brakes harder "
+    "than its highest deceleration); reports may arrive after any delay, out of order, or not at all",
+    _report,
+)
+
+
+def _fleet(o, p, s, i):
+    uphill = o.max(o.const(0), *(gradient_braking_mps2(o, p, g) for g in p.gradient_permille))
+    return p.guaranteed_deceleration_mps2 + uphill <= p.leader_max_deceleration_mps2
+
+
+FLEET = Assumption(
+    "fleet",
+    "the follower's guaranteed deceleration, with the steepest uphill's help, is at most the leader's highest "
+    "deceleration (otherwise a follower braking harder than the leader could close in on it mid-way)",
+    _fleet,
 )
 
 FOLLOWER_PLANT = Assumption(
@@ -68,44 +111,93 @@ FOLLOWER_PLANT = Assumption(
     two_train_admits,
 )
 
-ASSUMPTIONS = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT, LEADER, REPORT)
+BRICK_WALL = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT, LEADER, REPORT)
+RELATIVE = (*BRICK_WALL, LEADER_BRAKING, FLEET)
 
 
-def separation_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
-    """The brick-wall separation properties for one preset, named ``*_<preset>``."""
+def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property, ...]:
+    """The separation properties for one preset and mode (``bw``: brick wall, ``rbd``: relative braking
+    distance), named ``*_<mode>_<preset>``."""
+    if mode not in ("bw", "rbd"):
+        raise ValueError(f"separation mode must be 'bw' or 'rbd', got {mode!r}")
     n_t, n_be = whole_cycles(preset, fixed)
     fixed = {k: v for k, v in fixed.items() if k != "eoa_m"}
-    common = dict(node=TWO_TRAINS, assumptions=ASSUMPTIONS, fixed_params=fixed)
-    reports = f"separation.report_behind_leader_{preset}"
-    invariant = f"separation.braking_invariant_bw_{preset}"
+    fixed = {**fixed, "brick_wall": mode == "bw", "leader_max_deceleration_mps2": fixed["max_deceleration_mps2"]}
+    common = dict(node=TWO_TRAINS, assumptions=BRICK_WALL if mode == "bw" else RELATIVE, fixed_params=fixed)
+    reports = f"separation.reports_behind_leader_{mode}_{preset}"
+    invariant = f"separation.braking_invariant_{mode}_{preset}"
+    earliest = f"separation.leader_stop_is_earliest_{preset}"
+    never_recedes = f"separation.leader_stop_never_recedes_{preset}"
+    leader = () if mode == "bw" else (
+        Property(
+            name=earliest, requirement="SEP-03", seed="001 §3.2 (Fig. 6)",
+            text=(f"{preset}: the leader's earliest stopping point is its true rear plus its stopping distance from "
+                  "its true speed at its highest deceleration."),
+            holds=lambda o, p, s, i, out, nxt: o.eq(
+                o.const(2) * p.leader_max_deceleration_mps2 * (s.leader_stop_m - s.leader_rear_m),
+                s.leader_speed_mps * s.leader_speed_mps),
+            **common,
+        ),
+        Property(
+            name=never_recedes, requirement="SEP-04", seed="001 §3.2 (Fig. 6)",
+            text=(f"{preset}: the leader's earliest stopping point never moves back (it never brakes harder than its "
+                  "highest deceleration), so every report's stopping point bounds every later one from below."),
+            holds=lambda o, p, s, i, out, nxt: nxt.leader_stop_m >= s.leader_stop_m,
+            lemmas=(earliest,),
+            **common,
+        ),
+    )
+    if mode == "bw":
+        bound, target = "rear", (lambda o, p, s: s.leader_rear_m)
+        no_collision = ("the follower's true front stays at least the safety margin behind the leader's true rear",
+                        lambda o, p, s, i, out, nxt: s.front_m + p.safety_margin_m <= s.leader_rear_m)
+    else:
+        bound, target = "earliest stopping point", (lambda o, p, s: s.leader_stop_m)
+        no_collision = ("the follower's true front stays behind the leader's true rear",
+                        lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m)
+    name = {"bw": "brick-wall", "rbd": "relative braking"}[mode]
     return (
+        *leader,
         Property(
             name=reports, requirement="SEP-00", seed="001 §3.2",
-            text=f"{preset}: the best leader rear reported to the follower is never ahead of the leader's true rear.",
-            holds=lambda o, p, s, i, out, nxt: s.best_rear_m <= s.leader_rear_m,
+            text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
+                  "never ahead of the leader's true ones."),
+            holds=(lambda o, p, s, i, out, nxt: s.best_rear_m <= s.leader_rear_m) if mode == "bw" else (
+                lambda o, p, s, i, out, nxt: o.and_(s.best_rear_m <= s.leader_rear_m,
+                                                    s.best_stop_m <= s.leader_stop_m)),
             **common,
         ),
         Property(
             name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
-            text=(f"{preset}: the closed loop's braking invariant (CL-00) holds for the leader's true rear less the "
-                  "safety margin as the end of authority."),
+            text=(f"{preset}, {name}: the closed loop's braking invariant (CL-00) holds for the leader's true "
+                  f"{bound} less the safety margin as the end of authority."),
             holds=lambda o, p, s, i, out, nxt: braking_invariant(
-                o, p, s, s.leader_rear_m - p.safety_margin_m, n_t, n_be),
-            lemmas=(reports,), cases=brake_cycle_cases(n_be),
+                o, p, s, target(o, p, s) - p.safety_margin_m, n_t, n_be),
+            lemmas=(reports,) if mode == "bw" else (reports, never_recedes), cases=brake_cycle_cases(n_be),
             **common,
         ),
         Property(
-            name=f"separation.no_collision_bw_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
-            text=(f"{preset}, brick-wall mode: whatever the leader does (moving forward) and whatever the follower's "
-                  "driver or ATO commands, the follower's true front stays at least the safety margin behind the "
-                  "leader's true rear, with reports delayed, reordered or lost."),
-            holds=lambda o, p, s, i, out, nxt: s.front_m + p.safety_margin_m <= s.leader_rear_m,
+            name=f"separation.no_collision_{mode}_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
+            text=(f"{preset}, {name}: whatever the leader does (within its assumptions) and whatever the follower's "
+                  f"driver or ATO commands, {no_collision[0]}, with reports delayed, reordered or lost."),
+            holds=no_collision[1],
             lemmas=(invariant,),
             **common,
         ),
     )
 
 
-PROPERTIES = tuple(p for name, fixed in PRESETS.items() for p in separation_properties(name, fixed))
+def _pending(prop: Property) -> bool:
+    return prop.name.startswith(("separation.braking_invariant_rbd", "separation.no_collision_rbd"))
 
-__all__ = ["ASSUMPTIONS", "PROPERTIES", "separation_properties"]
+
+_ALL = tuple(p for name, fixed in PRESETS.items() for mode in ("bw", "rbd")
+             for p in separation_properties(name, fixed, mode))
+PROPERTIES = tuple(p for p in _ALL if not _pending(p))
+PENDING = tuple(p for p in _ALL if _pending(p))
+"""Relative braking's braking invariant and no-collision claim: stated (and falsified on the guaranteed-deceleration
+mutant in the tests) but not yet proved in CI: the invariant proves in about 3 minutes per preset with the
+leader's monotone stopping point given as an input assumption, and the no-collision step needs the concavity of
+the gap (README). Not registered, so ``atcs prove`` does not report them."""
+
+__all__ = ["BRICK_WALL", "PENDING", "PROPERTIES", "RELATIVE", "separation_properties"]
