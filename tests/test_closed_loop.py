@@ -18,18 +18,13 @@ from hypothesis import strategies as st
 from atcs.model import closed_loop, curves, dynamic_profile
 from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopInputs, ClosedLoopParams, ClosedLoopState
 from atcs.model.ops.exact import EXACT
-from atcs.model.plant import (
-    brake_effective,
-    gradient_braking_mps2,
-    max_gradient_acceleration_mps2,
-    traction_available,
-)
 from atcs.model.train_data import seed000_train, subset026_national
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import patched
 from atcs.proofs.trace import replay, reproduce
 from atcs.properties import PROPERTIES, select
 from atcs.properties.closed_loop import PRESETS, closed_loop_properties, preset_data
+from atcs.sim.drivers import worst_case_driver
 from atcs.sim.monitor import Monitor
 
 CLOSED_LOOP_PROPERTIES = select("closed_loop.*")
@@ -115,33 +110,6 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
 # --- simulation: the same step function and predicates on concrete numbers ------------------------
 
 
-def _gradient_braking_at(p: ClosedLoopParams, x_m):
-    """The gradient's share of the deceleration at ``x_m`` (the plant's own physics)."""
-    j = max(j for j, start in enumerate(p.gradient_starts_m) if j == 0 or start <= x_m)
-    return gradient_braking_mps2(EXACT, p, p.gradient_permille[j])
-
-
-def _worst_case_driver(p: ClosedLoopParams, s: ClosedLoopState, measured_speed_mps, emergency_brake):
-    """Full traction (and the steepest downhill's help) whenever the plant allows it and the measured speed is
-    under the MRSP, cruising above it (the service brake ignored); once the brake is effective, about the
-    weakest braking the plant admits: the guaranteed deceleration plus the stronger gradient help of the
-    cycle's two ends (a cycle that crosses onto an uphill must lose at least the uphill's share)."""
-    o, dt = EXACT, p.cycle_s
-    v = s.speed_mps
-    if brake_effective(o, p, s, emergency_brake):
-        decel = p.guaranteed_deceleration_mps2 + max(
-            _gradient_braking_at(p, s.front_m), _gradient_braking_at(p, s.front_m + v * dt))
-        if v <= decel * dt:
-            return Fraction(0), v * v / (2 * decel)
-        return v - decel * dt, v * dt - decel * dt * dt / 2
-    if measured_speed_mps >= p.mrsp_mps:
-        return v, v * dt
-    a = max_gradient_acceleration_mps2(o, p)
-    if traction_available(o, p, s, emergency_brake):
-        a += p.max_acceleration_mps2
-    return v + a * dt, v * dt + a * dt * dt / 2
-
-
 @settings(max_examples=6, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds: no shrinking
 @given(eoa_m=st.integers(300, 1500), breakpoint_m=st.integers(1, 1999), noise=st.randoms(use_true_random=False))
 def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
@@ -165,7 +133,8 @@ def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
             next_speed_mps=Fraction(0), distance_m=Fraction(0))
         _, commands, _ = closed_loop.atp_cycle(EXACT, params, s, measured, params.eoa_m)
         eb_cycles += commands.emergency_brake
-        next_speed, distance = _worst_case_driver(params, s, measured.measured_speed_mps, commands.emergency_brake)
+        next_speed, distance = worst_case_driver(params, s, measured.measured_speed_mps, params.mrsp_mps,
+                                                 commands.emergency_brake)
         monitor.step(dataclasses.replace(measured, next_speed_mps=next_speed, distance_m=distance))
         if eb_cycles and monitor.state.speed_mps == 0:
             break
