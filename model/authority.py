@@ -3,7 +3,7 @@ seed 002 §4.2).
 
 Each cycle, from the train's position interval, the resources it holds (the
 protocol of :mod:`atcs.model.resources`), the object controller's switch reports,
-the preceding train's last T2T report, any protection zone and the line data:
+the preceding train's T2T reports, any protection zone and the line data:
 
 - ``dRequestResource = min(end of line, max safe front + MAX_MA)``: the resources
   overlapping ``[max safe front, dRequestResource)`` that are not held are requested;
@@ -13,19 +13,21 @@ the preceding train's last T2T report, any protection zone and the line data:
   is not held, or is a switch not yet reported locked in the route's direction (seed
   001: the MA extends over a switch only once it has been turned); the route's end if
   none;
-- the preceding train's stopping point: its reported min safe rear plus the distance
-  it needs to stop from its reported min speed at its *highest* deceleration
-  (``leader_max_deceleration_mps2``: a train can stop faster than its guaranteed
-  braking, so the follower must assume the shortest stop), less the safety margin;
-  in brick-wall mode (absolute braking distance) the reported rear itself. The
-  report does not need ageing: as time passes the leader can only be further on
-  and its earliest stopping point cannot move back. A report older than
-  ``report_timeout_s`` is presumed lost with the link: the MA falls back to the
-  reported rear, which holds even if the leader stopped dead (a derailment);
-- the end of authority (dMA) is the least of ``dLockedResource``, the leader's
-  stopping point, the start of an active protection zone (set by the ATS), the end
-  of line and the max safe front + MAX_MA; the target speed there (vMA) is 0.
-  (The preceding train's speed as vMA, seed 003's radio case, is left to the ATO's target speed.)
+- the preceding train: each report (its min safe rear and min speed when sent,
+  arriving after any delay, possibly out of order) bounds its present from below,
+  since it never moves backward and never brakes harder than
+  ``leader_max_deceleration_mps2`` (a train can stop faster than its guaranteed
+  braking, so the follower must assume its *highest* deceleration). The train keeps
+  the largest rear and the largest earliest stopping point
+  ``rear + v^2 / (2 * leader_max_deceleration_mps2)`` reported so far (never lowered,
+  so a report overtaken by a newer one does no harm: no ageing is needed, an old
+  bound stays true). Its limit is that stopping point less the safety margin; in
+  brick-wall mode (absolute braking distance), or when no report has arrived for
+  longer than ``report_timeout_s`` (the link is presumed lost, and the leader may
+  have stopped dead), the rear less the margin;
+- the end of authority (dMA) is the least of ``dLockedResource``, the leader's limit,
+  the start of an active protection zone (set by the ATS), the end of line and the max
+  safe front + MAX_MA; the target speed there (vMA) is 0.
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.curves import FAR_M, MIN_SPAN
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 
 PROOF_ROUTE_RESOURCES = 8
@@ -59,6 +61,19 @@ class AuthorityParams(Generic[N, B]):
     report_timeout_s: N
     brick_wall: B
     """Absolute braking distance: the leader's reported rear is the target, with no credit for its speed."""
+    cycle_s: N
+
+
+@dataclass(frozen=True)
+class AuthorityState(Generic[N, B]):
+    leader_known: B
+    """A report from the preceding train has arrived."""
+    best_rear_m: N
+    """The largest min safe rear reported."""
+    best_stop_m: N
+    """The largest earliest stopping point reported."""
+    since_report_s: N
+    """Time since the last report arrived."""
 
 
 @dataclass(frozen=True)
@@ -70,14 +85,12 @@ class AuthorityInputs(Generic[N, B]):
     """The object controller reports the switch locked in a position."""
     switch_reversed: tuple[B, ...]
     """That position is reverse (else normal)."""
-    leader_known: B
-    """A T2T report from the preceding train has been received."""
-    leader_rear_m: N
-    """Its reported min safe rear."""
-    leader_speed_mps: N
-    """Its reported min speed (estimate less accuracy)."""
-    report_age_s: N
-    """Time since the report's timestamp."""
+    report_delivered: B
+    """A T2T report from the preceding train arrives this cycle."""
+    report_rear_m: N
+    """Its min safe rear when it was sent."""
+    report_speed_mps: N
+    """Its min speed (estimate less accuracy) when it was sent."""
     zone_active: B
     zone_start_m: N
     """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2)."""
@@ -91,7 +104,8 @@ class AuthorityOutputs(Generic[N, B]):
     """Command the switch to the route's direction."""
     d_request_m: N
     d_locked_m: N
-    leader_stop_m: N
+    leader_limit_m: N
+    """The end of authority the preceding train allows."""
     eoa_m: N
     """dMA. vMA, the target speed there, is always 0: each limit is a point to stop at."""
 
@@ -111,16 +125,41 @@ def locked_end_m(o: Ops, p: AuthorityParams, i: AuthorityInputs):
     return locked
 
 
-def leader_stop_m(o: Ops, p: AuthorityParams, i: AuthorityInputs):
-    """Where the preceding train stops at the earliest, less the safety margin (FAR_M if there is none)."""
+def stopping_point_m(o: Ops, p: AuthorityParams, rear_m, speed_mps):
+    """Where a leader at ``rear_m`` and ``speed_mps`` stops at the earliest (its highest deceleration)."""
     deceleration = o.max(p.leader_max_deceleration_mps2, o.const(MIN_SPAN))  # a guard valid data never meets
-    rbd = i.leader_rear_m + i.leader_speed_mps * i.leader_speed_mps / (o.const(2) * deceleration)
-    certain_only = o.or_(p.brick_wall, i.report_age_s > p.report_timeout_s)
-    stop = o.ite(certain_only, i.leader_rear_m, rbd) - p.safety_margin_m
-    return o.ite(i.leader_known, stop, o.const(FAR_M))
+    return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
 
 
-def authority_step(o: Ops, p: AuthorityParams, s: Stateless, i: AuthorityInputs):
+def leader_reports(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs) -> AuthorityState:
+    """The bounds kept after this cycle's report (module docstring)."""
+    arrived = i.report_delivered
+    first = o.and_(arrived, o.not_(s.leader_known))
+    rear = o.ite(first, i.report_rear_m, o.max(s.best_rear_m, i.report_rear_m))
+    stop = stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps)
+    return AuthorityState(
+        leader_known=o.or_(s.leader_known, arrived),
+        best_rear_m=o.ite(arrived, rear, s.best_rear_m),
+        best_stop_m=o.ite(arrived, o.ite(first, stop, o.max(s.best_stop_m, stop)), s.best_stop_m),
+        since_report_s=o.ite(arrived, o.const(0), s.since_report_s + p.cycle_s),
+    )
+
+
+def leader_limit_m(o: Ops, p: AuthorityParams, r: AuthorityState):
+    """The end of authority the preceding train allows (FAR_M with no report yet)."""
+    certain_only = o.or_(p.brick_wall, r.since_report_s > p.report_timeout_s)
+    limit = o.ite(certain_only, r.best_rear_m, r.best_stop_m) - p.safety_margin_m
+    return o.ite(r.leader_known, limit, o.const(FAR_M))
+
+
+def authority_init(o: Ops, p: AuthorityParams, s: AuthorityState):
+    """No report from a preceding train yet."""
+    zero = o.const(0)
+    return o.and_(o.not_(s.leader_known), o.eq(s.best_rear_m, zero), o.eq(s.best_stop_m, zero),
+                  o.eq(s.since_report_s, zero))
+
+
+def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs):
     """One cycle of resource management and MA computation (module docstring)."""
     d_request = o.min(p.line_end_m, i.front_max_m + p.max_ma_m)
     resources = range(len(p.resource_end_m))
@@ -131,19 +170,20 @@ def authority_step(o: Ops, p: AuthorityParams, s: Stateless, i: AuthorityInputs)
     release = tuple(o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m) for r in resources)
     switch_command = tuple(o.and_(i.held[r], o.not_(confirmed(o, p, i, r))) for r in resources)
     d_locked = locked_end_m(o, p, i)
-    leader = leader_stop_m(o, p, i)
+    reports = leader_reports(o, p, s, i)
+    leader = leader_limit_m(o, p, reports)
     zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))
     eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)
-    return s, AuthorityOutputs(request, release, switch_command, d_request, d_locked, leader, eoa)
+    return reports, AuthorityOutputs(request, release, switch_command, d_request, d_locked, leader, eoa)
 
 
 AUTHORITY = Node(
     name="authority",
     params=AuthorityParams,
-    state=Stateless,
+    state=AuthorityState,
     inputs=AuthorityInputs,
     outputs=AuthorityOutputs,
-    init=always,
+    init=authority_init,
     step=authority_step,
     seed="001 §3.2-3.3 (Fig. 6, 8), 000 §2.2, 002 §4.2",
     sizes={name: PROOF_ROUTE_RESOURCES for name in (

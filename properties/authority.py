@@ -57,13 +57,24 @@ def _before_unconfirmed_switch(o, p, s, i, out, nxt):
 
 
 def _behind_leader(o, p, s, i, out, nxt):
-    d, v, margin = p.leader_max_deceleration_mps2, i.leader_speed_mps, p.safety_margin_m
-    certain_only = o.or_(p.brick_wall, i.report_age_s > p.report_timeout_s)
-    return o.and_(
-        # relative braking: 2 D (eoa + margin - rear) <= v^2, i.e. behind the leader's earliest stopping point
-        o.implies(i.leader_known, o.const(2) * d * (out.eoa_m + margin - i.leader_rear_m) <= v * v),
-        o.implies(o.and_(i.leader_known, certain_only), out.eoa_m + margin <= i.leader_rear_m),
-    )
+    stale = nxt.since_report_s > p.report_timeout_s
+    margin = p.safety_margin_m
+    return o.implies(nxt.leader_known, o.and_(
+        out.eoa_m + margin <= nxt.best_stop_m,
+        o.implies(o.or_(p.brick_wall, stale), out.eoa_m + margin <= nxt.best_rear_m),
+    ))
+
+
+def _bounds_from_reports(o, p, s, i, out, nxt):
+    """Each bound kept is the previous one or the one this cycle's report gives, never more."""
+    d, v = p.leader_max_deceleration_mps2, i.report_speed_mps
+    kept = s.leader_known
+    return o.implies(nxt.leader_known, o.and_(
+        o.or_(o.and_(kept, nxt.best_rear_m <= s.best_rear_m),
+              o.and_(i.report_delivered, nxt.best_rear_m <= i.report_rear_m)),
+        o.or_(o.and_(kept, nxt.best_stop_m <= s.best_stop_m),
+              o.and_(i.report_delivered, o.const(2) * d * (nxt.best_stop_m - i.report_rear_m) <= v * v)),
+    ))
 
 
 def _release_behind_rear(o, p, s, i, out, nxt):
@@ -83,9 +94,9 @@ def _switch_command(o, p, s, i, out, nxt):
                     for r in _resources(p)))
 
 
-def _property(name, requirement, seed, text, holds, assumptions=()):
+def _property(name, requirement, seed, text, holds, assumptions=(), lemmas=()):
     return Property(name=name, requirement=requirement, seed=seed, text=text, node=AUTHORITY, holds=holds,
-                    assumptions=assumptions)
+                    assumptions=assumptions, lemmas=lemmas)
 
 
 PROPERTIES = (
@@ -104,10 +115,17 @@ PROPERTIES = (
               lambda o, p, s, i, out, nxt: o.and_(out.eoa_m <= p.line_end_m,
                                                   out.eoa_m <= i.front_max_m + p.max_ma_m)),
     _property("authority.behind_leader", "AUT-05", "001 §3.2 (Fig. 6), 000 §2.2",
-              "With a report from the preceding train, the end of authority plus the safety margin is behind "
-              "the leader's earliest stopping point (its reported min safe rear plus its stopping distance from "
-              "its reported min speed at its highest deceleration), and behind its reported rear in brick-wall "
-              "mode or once the report is older than the timeout.", _behind_leader, (LEADER_DATA,)),
+              "Once the preceding train has reported, the end of authority plus the safety margin is behind the "
+              "largest earliest stopping point reported, and behind the largest rear reported in brick-wall mode "
+              "or once no report has arrived for the timeout.", _behind_leader, (LEADER_DATA,),
+              ("authority.rear_bound_behind_stop_bound",)),
+    _property("authority.rear_bound_behind_stop_bound", "AUT-07", "001 §3.2",
+              "The largest rear reported is never ahead of the largest earliest stopping point reported.",
+              lambda o, p, s, i, out, nxt: s.best_rear_m <= s.best_stop_m, (LEADER_DATA,)),
+    _property("authority.leader_bounds_from_reports", "AUT-06", "001 §3.2 (Fig. 6)",
+              "The leader's rear and earliest stopping point the train keeps are never more than a report gives: "
+              "the rear reported, and that rear plus the stopping distance from the speed reported at the "
+              "leader's highest deceleration.", _bounds_from_reports, (LEADER_DATA,)),
     _property("resources.release_behind_rear", "RES-03", "001 §3.2 (Fig. 5)",
               "A resource is released only if the train holds it and it lies wholly behind the min safe rear.",
               _release_behind_rear),

@@ -1,17 +1,19 @@
-"""Two trains never collide (seed 001 §3.2 Fig. 6, seed 000 §2.2 and §2.5): brick-wall mode.
+"""Two trains never collide (seed 001 §3.2 Fig. 6, seed 000 §2.2 and §2.5).
 
-Over :data:`~atcs.model.separation.TWO_TRAINS`: the follower's ATP, its plant (the
-closed loop's bounds), the leader moving forward in any way, and T2T reports of the
-leader's min safe rear delivered after any delay, or lost. With the follower's
-train, national and plant data of a seed preset (the closed loop's), any MRSP
-ceiling, odometry error, safety margin and 2-segment compensated gradient profile
-(breakpoints symbolic, values the design case -40 / +40 per mille), the follower's
-true front stays at least the safety margin behind the leader's true rear.
+Over :data:`~atcs.model.separation.TWO_TRAINS`: the follower's ATP supervising the end
+of authority its authority node computes (route of 2 resources held or not, switches
+reported or not, protection zone, end of line, MAX_MA and the leader's reports: all
+symbolic inputs), its plant (the closed loop's bounds), the leader moving forward in
+any way (relative braking: never braking harder than its highest deceleration), and
+T2T reports delivered after any delay, out of order, or lost. With the follower's
+train, national and plant data of a seed preset (the closed loop's), any MRSP ceiling,
+odometry error, safety margin, report timeout and 2-segment compensated gradient
+profile (breakpoints symbolic, values the design case -40 / +40 per mille).
 
 The proof is the closed loop's (CL-00) with the end of authority replaced by the
-leader's true rear less the margin, a target that only moves forward; the follower's
-ATP supervises the best reported rear less the margin, which is never ahead of it
-(SEP-00).
+leader's true rear (brick wall) or true earliest stopping point (relative braking)
+less the margin: a target that never moves back, and never ahead of the end of
+authority the ATP supervises (SEP-00).
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from __future__ import annotations
 from atcs.model.curves import MIN_SPAN
 from atcs.model.plant import gradient_braking_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
-from atcs.model.separation import TWO_TRAINS, stopping_point_m, two_train_admits
+from atcs.model.separation import TWO_TRAINS, earliest_stop_m, follower_authority, two_train_admits
 from atcs.properties.closed_loop import (
     MEASUREMENT,
     PRESETS,
@@ -34,11 +36,13 @@ from atcs.properties.property import Assumption, Property
 
 def _setting(o, p, s, i):
     zero = o.const(0)
+    eoa = follower_authority(o, p, s, i)[1].eoa_m
     return o.and_(
         is_well_formed(o, plant_gradient(p)),
         p.line_end_m <= o.const(MAX_LINE_M), zero <= p.safety_margin_m, p.position_error_m >= zero,
         zero <= p.mrsp_mps, p.mrsp_mps <= o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS),
-        zero <= s.best_rear_m - p.safety_margin_m, s.leader_rear_m + i.leader_distance_m <= p.line_end_m,
+        p.leader_max_deceleration_mps2 >= o.const(MIN_SPAN),
+        zero <= eoa, eoa <= p.line_end_m, s.leader_rear_m + i.leader_distance_m <= p.line_end_m,
     )
 
 
@@ -46,7 +50,7 @@ SETTING = Assumption(
     "setting",
     f"the compensated gradient profile is well formed on a line of at most {MAX_LINE_M} m that the leader does not "
     f"leave, the follower's end of authority is on the line, MRSP within [0, {MAX_SPEED_KMH}] km/h, odometry error "
-    "and safety margin >= 0",
+    f"and safety margin >= 0, the leader's highest deceleration >= {MIN_SPAN} m/s^2",
     _setting,
 )
 
@@ -54,6 +58,13 @@ LEADER = Assumption(
     "leader",
     "the leader never moves backward (any other motion, including stopping dead)",
     lambda o, p, s, i: o.and_(i.leader_distance_m >= o.const(0), i.leader_next_speed_mps >= o.const(0)),
+)
+
+REPORT_REAR = Assumption(
+    "report_rear",
+    "a report describes a past state of the leader: its min safe rear is at most the leader's current rear "
+    "(reports may arrive after any delay, out of order, or not at all)",
+    lambda o, p, s, i: o.implies(i.report_delivered, i.report_rear_m <= s.leader_rear_m),
 )
 
 
@@ -77,19 +88,13 @@ LEADER_BRAKING = Assumption(
 )
 
 
-def _report(o, p, s, i):
-    return o.implies(i.report_delivered, o.and_(
-        i.report_rear_m <= s.leader_rear_m, i.report_speed_mps >= o.const(0),
-        stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m,
-    ))
-
-
-REPORT = Assumption(
-    "report",
-    "a report describes a past state of the leader: its min safe rear is at most the leader's current rear and "
-    "its earliest stopping point at most the current one (the leader never moves backward nor brakes harder "
-    "than its highest deceleration); reports may arrive after any delay, out of order, or not at all",
-    _report,
+REPORT_STOP = Assumption(
+    "report_stop",
+    "a report's min speed is >= 0 and the earliest stopping point it gives is at most the leader's current one "
+    "(true of a past state: that point never moves back, SEP-04)",
+    lambda o, p, s, i: o.implies(i.report_delivered, o.and_(
+        i.report_speed_mps >= o.const(0),
+        earliest_stop_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m)),
 )
 
 
@@ -111,8 +116,8 @@ FOLLOWER_PLANT = Assumption(
     two_train_admits,
 )
 
-BRICK_WALL = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT, LEADER, REPORT)
-RELATIVE = (*BRICK_WALL, LEADER_BRAKING, FLEET)
+BRICK_WALL = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT, LEADER, REPORT_REAR)
+RELATIVE = (*BRICK_WALL, REPORT_STOP, LEADER_BRAKING, FLEET)
 
 
 def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property, ...]:
@@ -162,9 +167,9 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             name=reports, requirement="SEP-00", seed="001 §3.2",
             text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
                   "never ahead of the leader's true ones."),
-            holds=(lambda o, p, s, i, out, nxt: s.best_rear_m <= s.leader_rear_m) if mode == "bw" else (
-                lambda o, p, s, i, out, nxt: o.and_(s.best_rear_m <= s.leader_rear_m,
-                                                    s.best_stop_m <= s.leader_stop_m)),
+            holds=(lambda o, p, s, i, out, nxt: o.and_(s.leader_known, s.best_rear_m <= s.leader_rear_m))
+            if mode == "bw" else (lambda o, p, s, i, out, nxt: o.and_(
+                s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m)),
             **common,
         ),
         Property(

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import Phase, event, given, settings
 from hypothesis import strategies as st
 
-from atcs.model import separation
+from atcs.model import authority, separation
 from atcs.model.closed_loop import atp_cycle
 from atcs.model.ops.exact import EXACT
 from atcs.model.separation import TWO_TRAINS, TwoTrainInputs, TwoTrainParams, TwoTrainState
@@ -44,35 +44,33 @@ def _kind(name):
 
 
 _BEST = "o.max(s.best_rear_m, i.report_rear_m)"
-_EOA = "o.ite(certain_only, rear, stop) - p.safety_margin_m"
-_REPORT_STOP = "stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps)"
+_LIMIT = "limit = o.ite(certain_only, r.best_rear_m, r.best_stop_m) - p.safety_margin_m"
 # the issue's fault: the leader's stopping point computed with a guaranteed deceleration (here the follower's own,
 # about 0.8 m/s^2) instead of the leader's highest (3 m/s^2)
-GUARANTEED = (separation.follower_eoa_m, _REPORT_STOP,
-              "i.report_rear_m + i.report_speed_mps * i.report_speed_mps"
-              " / (o.const(2) * p.guaranteed_deceleration_mps2)")
+GUARANTEED = (authority.stopping_point_m, "(o.const(2) * deceleration)",
+              "(o.const(2) * p.guaranteed_deceleration_mps2)")
 
 # property kind -> mutants (function, text in it, faulty replacement)
 MUTANTS = {
     # the leader's reported front taken for its rear
-    "reports_behind_leader_bw": [(separation.follower_eoa_m, _BEST, f"{_BEST} + p.train_length_m")],
-    "braking_invariant_bw": [(separation.follower_eoa_m, _EOA, "o.ite(certain_only, rear, stop)")],
+    "reports_behind_leader_bw": [(authority.leader_reports, _BEST, f"{_BEST} + p.train_length_m")],
+    "braking_invariant_bw": [(authority.leader_limit_m, _LIMIT, _LIMIT.replace(" - p.safety_margin_m", ""))],
     "no_collision_bw": [
         # no safety margin before the leader's rear
-        (separation.follower_eoa_m, _EOA, "o.ite(certain_only, rear, stop)"),
+        (authority.leader_limit_m, _LIMIT, _LIMIT.replace(" - p.safety_margin_m", "")),
         # the leader's reported front taken for its rear: a collision
-        (separation.follower_eoa_m, _BEST, f"{_BEST} + p.train_length_m"),
-        # the latest report trusted as it comes, with no bound kept
-        (separation.follower_eoa_m, _BEST, "i.report_rear_m + p.safety_margin_m"),
+        (authority.leader_reports, _BEST, f"{_BEST} + p.train_length_m"),
+        # brick-wall mode ignored: the leader's stopping point taken for its rear
+        (authority.leader_limit_m, "o.ite(certain_only, r.best_rear_m, r.best_stop_m)", "r.best_stop_m"),
     ],
     "reports_behind_leader_rbd": [GUARANTEED],
-    # the leader's stopping distance computed with half its highest deceleration
-    "leader_stop_is_earliest": [(separation.stopping_point_m, "(o.const(2) * deceleration)", "deceleration")],
+    # the leader's physics with half its highest deceleration
+    "leader_stop_is_earliest": [(separation.earliest_stop_m, "(o.const(2) * p.leader_max_deceleration_mps2)",
+                                 "p.leader_max_deceleration_mps2")],
     # the ghost stopping point taken from the rear before this cycle's motion
     "leader_stop_never_recedes": [(
-        separation.two_train_step,
-        "stopping_point_m(o, p, s.leader_rear_m + i.leader_distance_m, i.leader_next_speed_mps)",
-        "stopping_point_m(o, p, s.leader_rear_m, i.leader_next_speed_mps)",
+        separation.two_train_step, "earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)",
+        "earliest_stop_m(o, p, s.leader_rear_m, i.leader_next_speed_mps)",
     )],
 }
 
@@ -139,8 +137,8 @@ class TestLeaderGuaranteedDeceleration:
             result = prove(prop, timeout_s=300, max_k=12)
             assert result.status == "falsified", result.message
             assert reproduce(prop, result.trace).first_violation == result.k
-        after = result.trace.states[result.k + 1]
-        assert after["front_m"] >= after["leader_rear_m"], "the counterexample must end in a collision"
+        hit = result.trace.states[result.k]  # the property is about the state before step k
+        assert hit["front_m"] >= hit["leader_rear_m"], "the counterexample must end in a collision"
 
     def test_regression_example_replays(self):
         """The stored collision (``leader_guaranteed_deceleration.json``, written by :func:`write_regression`)
@@ -148,8 +146,8 @@ class TestLeaderGuaranteedDeceleration:
         prop, trace = from_json(REGRESSION, {COARSE_RBD_COLLISION.name: COARSE_RBD_COLLISION})
         with patched(*GUARANTEED):
             assert reproduce(prop, trace).first_violation == trace.violation_step
-        last = trace.states[-1]
-        assert last["front_m"] >= last["leader_rear_m"]
+        hit = trace.states[trace.violation_step]
+        assert hit["front_m"] >= hit["leader_rear_m"]
         real = replay(prop, trace)
         assert real.problems or real.first_violation is None
 
@@ -192,14 +190,18 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
         **fixed, "gradient_starts_m": (Fraction(0), Fraction(9000)), "line_end_m": Fraction(10_000),
         "mrsp_mps": Fraction(80) / Fraction("3.6"), "position_error_m": Fraction(5), "safety_margin_m": Fraction(20),
         "leader_max_deceleration_mps2": d_max, "report_timeout_s": Fraction(2), "brick_wall": mode == "bw",
+        # a plain line: two track resources, both held; MAX_MA beyond the line
+        "resource_start_m": (Fraction(0), Fraction(5000)), "resource_end_m": (Fraction(5000), Fraction(10_000)),
+        "resource_is_switch": (False, False), "switch_needs_reverse": (False, False), "max_ma_m": Fraction(10_000),
     })
     dt = params.cycle_s
     leader_v = Fraction(leader_kmh) / Fraction("3.6")
     rear = Fraction(gap_m + 20)
-    stop = separation.stopping_point_m(EXACT, params, rear, leader_v)
+    stop = separation.earliest_stop_m(EXACT, params, rear, leader_v)
     start = TwoTrainState(front_m=Fraction(0), speed_mps=Fraction(0), brake_cycles=fixed["brake_build_up_cycles"],
-                          eb_latched=True, sb_latched=False, leader_rear_m=rear, leader_speed_mps=leader_v,
-                          leader_stop_m=stop, best_rear_m=rear, best_stop_m=stop, since_report_s=Fraction(0))
+                          eb_latched=True, sb_latched=False, leader_known=True, best_rear_m=rear, best_stop_m=stop,
+                          since_report_s=Fraction(0), leader_rear_m=rear, leader_speed_mps=leader_v,
+                          leader_stop_m=stop)
     props = tuple(p for p in (*SEPARATION_PROPERTIES, *PENDING) if p.name.endswith(f"{mode}_seed000")
                   or (mode == "rbd" and p.name.startswith("separation.leader_stop") and p.name.endswith("seed000")))
     monitor = Monitor(TWO_TRAINS, params, start, props, ops=EXACT)
@@ -219,8 +221,10 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
             standstill=s.speed_mps == 0, eb_release=s.speed_mps == 0,
             next_speed_mps=Fraction(0), distance_m=Fraction(0), leader_distance_m=leader_distance,
             leader_next_speed_mps=leader_next, report_delivered=delivered, report_rear_m=sent_rear,
-            report_speed_mps=sent_speed)
-        _, commands, _ = atp_cycle(EXACT, params, s, inputs, separation.follower_eoa_m(EXACT, params, s, inputs).eoa_m)
+            report_speed_mps=sent_speed, held=(True, True), switch_locked=(False, False),
+            switch_reversed=(False, False), zone_active=False, zone_start_m=Fraction(0))
+        eoa = separation.follower_authority(EXACT, params, s, inputs)[1].eoa_m
+        _, commands, _ = atp_cycle(EXACT, params, s, inputs, eoa)
         eb_cycles += commands.emergency_brake and k > 0
         next_speed, distance = worst_case_driver(params, s, inputs.measured_speed_mps, params.mrsp_mps,
                                                  commands.emergency_brake)
