@@ -21,6 +21,7 @@ from atcs.model.authority import (
     authority_step,
 )
 from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle
+from atcs.model.curves import MIN_SPAN
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import PlantParams, PlantState, plant_admits, plant_init, plant_next
@@ -34,7 +35,8 @@ PROOF_RESOURCES = 2
 def earliest_stop_m(o: Ops, p: TwoTrainParams, rear_m, speed_mps):
     """The physics of the leader: where it stops at the earliest, braking at its highest deceleration. Written
     apart from the ATP's :func:`~atcs.model.authority.stopping_point_m`, so a fault there is not mirrored here."""
-    return rear_m + speed_mps * speed_mps / (o.const(2) * p.leader_max_deceleration_mps2)
+    deceleration = o.max(p.leader_max_deceleration_mps2, o.const(MIN_SPAN))  # a guard valid data never meets
+    return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
 
 
 @dataclass(frozen=True)
@@ -128,7 +130,7 @@ def two_train_admits(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInp
 
 
 TWO_TRAINS = Node(
-    name="two_trains",
+    name="separation",
     params=TwoTrainParams,
     state=TwoTrainState,
     inputs=TwoTrainInputs,

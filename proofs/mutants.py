@@ -19,7 +19,9 @@ import sys
 import textwrap
 import types
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext
+from dataclasses import dataclass
+from typing import Any
 
 from atcs.model.node import Node
 from atcs.properties.property import Property
@@ -83,3 +85,49 @@ def patched(function: Callable, old: str, new: str) -> Iterator[Callable]:
     finally:
         for module, name in bindings:
             setattr(module, name, function)
+
+
+@dataclass
+class MutantRun:
+    """A property proved about a mutant (:func:`falsify`)."""
+
+    result: Any
+    """The engine's result on the mutant."""
+    reproduced: Any
+    """The counterexample replayed on the mutant (None without one)."""
+    on_real_model: Any
+    """The same inputs replayed on the real model (None without a counterexample)."""
+
+    @property
+    def killed(self) -> bool:
+        """Falsified, its counterexample replays on the mutant at the same step, and the real model does not
+        violate the property on those inputs (the fault, not the inputs, is what breaks it)."""
+        return (
+            self.result.status == "falsified"
+            and self.reproduced.first_violation == self.result.k
+            and (bool(self.on_real_model.problems) or self.on_real_model.first_violation is None)
+        )
+
+    def __str__(self) -> str:
+        return f"{self.result.name}: {self.result.status} at k={self.result.k} {self.result.message}".rstrip()
+
+
+def falsify(prop: Property, function: Callable, old: str, new: str, *, timeout_s: float = 120,
+            max_k: int | None = None) -> MutantRun:
+    """Prove ``prop``, without its lemmas (a mutant's lemma may not hold), about the model with ``old`` replaced
+    by ``new`` in ``function``: the node's own ``step`` or ``init`` gives a mutant node, any other function is
+    swapped in for the proof (:func:`patched`)."""
+    from atcs.proofs.engine import prove
+    from atcs.proofs.trace import replay, reproduce
+
+    real = dataclasses.replace(prop, lemmas=())
+    own = next((name for name in ("step", "init") if getattr(prop.node, name) is function), None)
+    if own is not None:
+        mutated, context = mutant_property(real, old, new, function=own), nullcontext()
+    else:
+        mutated, context = real, patched(function, old, new)
+    with context:
+        result = prove(mutated, timeout_s=timeout_s, max_k=max_k)
+        reproduced = reproduce(mutated, result.trace) if result.trace is not None else None
+    on_real = replay(real, result.trace) if result.trace is not None else None
+    return MutantRun(result, reproduced, on_real)
