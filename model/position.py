@@ -46,6 +46,7 @@ from typing import Generic
 
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
+from atcs.model.profile import parse_number
 
 MIN_CYCLE_S = "0.001"
 """Guard on the cycle time as a divisor: valid data (and every proof) has cycles far longer, so it never acts;
@@ -241,14 +242,7 @@ class TagTable:
 
 
 def _number(source: str, field: str, raw) -> Fraction:
-    if isinstance(raw, bool) or not isinstance(raw, (int, float, str, Fraction)):
-        raise TagTableError(f"{source}: {field} = {raw!r} is not a number")
-    if isinstance(raw, float) and not math.isfinite(raw):
-        raise TagTableError(f"{source}: {field} = {raw!r} is not finite")
-    try:
-        return Fraction(raw.strip() if isinstance(raw, str) else raw)
-    except (ValueError, ZeroDivisionError):
-        raise TagTableError(f"{source}: {field} = {raw!r} is not a number") from None
+    return parse_number(source, field, raw, TagTableError)
 
 
 def tag_table(source: str, ids: Sequence, positions_m: Sequence,

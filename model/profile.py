@@ -41,17 +41,18 @@ class Profile(Generic[N]):
     end_m: N
 
 
-def parse_number(field: str, what: str, raw) -> Fraction:
-    """``raw`` as an exact number, or a :class:`ProfileError` naming ``field``, ``what`` and the value."""
+def parse_number(field: str, what: str, raw, error: type[ValueError] = ProfileError) -> Fraction:
+    """``raw`` as an exact number, or an ``error`` (:class:`ProfileError` unless given) naming ``field``, ``what``
+    and the value."""
     if isinstance(raw, bool) or not isinstance(raw, (int, float, Fraction, str)):
-        raise ProfileError(f"{field}: {what} = {raw!r} is not a number")
+        raise error(f"{field}: {what} = {raw!r} is not a number")
     if isinstance(raw, float) and not math.isfinite(raw):
-        raise ProfileError(f"{field}: {what} = {raw!r} is not finite")
+        raise error(f"{field}: {what} = {raw!r} is not finite")
     try:
         # a float is taken as the decimal it prints as (80.1 km/h is 801/10, not its binary neighbour)
         return Fraction(repr(raw)) if isinstance(raw, float) else Fraction(raw)
     except (ValueError, ZeroDivisionError):
-        raise ProfileError(f"{field}: {what} = {raw!r} is not a number") from None
+        raise error(f"{field}: {what} = {raw!r} is not a number") from None
 
 
 def _segments(field: str, starts_m: Sequence, values: Sequence, end_m) -> tuple[list[Fraction], Fraction]:

@@ -24,12 +24,13 @@ naming the file, the resource, the field and the value.
 
 from __future__ import annotations
 
-import math
 import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
+
+from atcs.model.profile import parse_number
 
 KINDS = ("track", "switch")
 DIRECTIONS = ("normal", "reverse")
@@ -63,14 +64,7 @@ class Route:
 
 
 def _number(where: str, field: str, raw) -> Fraction:
-    if isinstance(raw, bool) or not isinstance(raw, (int, float, str, Fraction)):
-        raise RouteError(f"{where}: {field} = {raw!r} is not a number")
-    if isinstance(raw, float) and not math.isfinite(raw):
-        raise RouteError(f"{where}: {field} = {raw!r} is not finite")
-    try:
-        return Fraction(raw.strip() if isinstance(raw, str) else raw)
-    except (ValueError, ZeroDivisionError):
-        raise RouteError(f"{where}: {field} = {raw!r} is not a number") from None
+    return parse_number(where, field, raw, RouteError)
 
 
 def route(source: str, resources: Sequence[Mapping], line_end_m) -> Route:
