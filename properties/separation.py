@@ -10,10 +10,17 @@ train, national and plant data of a seed preset (the closed loop's), any MRSP ce
 odometry error, safety margin, report timeout and 2-segment compensated gradient
 profile (breakpoints symbolic, values the design case -40 / +40 per mille).
 
-The proof is the closed loop's (CL-00) with the end of authority replaced by the
-leader's true rear (brick wall) or true earliest stopping point (relative braking)
-less the margin: a target that never moves back, and never ahead of the end of
-authority the ATP supervises (SEP-00).
+Brick wall: the proof is the closed loop's (CL-00) with the end of authority replaced
+by the leader's true rear less the margin, a target that never moves back and is never
+ahead of the end of authority the ATP supervises (SEP-00).
+
+Relative braking, in two steps. SEP-01: the follower's own best reported stopping point
+less the margin never moves back and its end of authority never lies beyond it, so
+CL-00's invariant holds for it; this needs nothing of the leader. SEP-02: that point is
+behind the leader's true earliest stopping point (SEP-00), and the gap between the
+follower's worst case and the leader's fastest stop closes by at most what one cycle
+allows, so with a margin at least that large the follower never reaches the leader's
+rear (assumptions *fleet* and *margin*).
 """
 
 from __future__ import annotations
@@ -74,16 +81,17 @@ def _leader_braking(o, p, s, i):
     two = o.const(2)
     return o.and_(
         d >= o.const(MIN_SPAN),
-        v_next * v_next >= v * v - two * d * x,
-        o.or_(x >= v * dt - d * dt * dt / two, o.and_(o.eq(v_next, o.const(0)), two * d * x >= v * v)),
+        v_next * v_next >= v * v - two * d * x, v_next >= v - d * dt,
+        o.or_(two * d * x >= v * v, o.and_(v >= d * dt, x >= v * dt - d * dt * dt / two)),
     )
 
 
 LEADER_BRAKING = Assumption(
     "leader_braking",
-    "the leader never decelerates harder than leader_max_deceleration_mps2: over a cycle it runs at least the "
-    "distance of braking that hard (for the cycle, or to a stop), and its speed falls by no more than that "
-    "deceleration over the distance",
+    "the leader never decelerates harder than leader_max_deceleration_mps2: over a cycle its speed falls by at "
+    "most that deceleration times the cycle, its squared speed by at most twice that deceleration times the "
+    "distance, and it runs at least the distance of braking that hard (for the whole cycle, or to a stop if it "
+    "is slow enough to stop within the cycle)",
     _leader_braking,
 )
 
@@ -116,7 +124,25 @@ FOLLOWER_PLANT = Assumption(
     two_train_admits,
 )
 
-BRICK_WALL = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT, LEADER, REPORT_REAR)
+
+def one_cycle_closing_m(o, p):
+    """How far a follower can gain on a leader at the same speed in one cycle: the plant bounds a braking
+    cycle's distance by ``v * dt`` (its end points only), while the leader may brake at its highest
+    deceleration for the whole cycle."""
+    return p.leader_max_deceleration_mps2 * p.cycle_s * p.cycle_s / o.const(2)
+
+
+MARGIN = Assumption(
+    "margin",
+    "the safety margin is at least leader_max_deceleration_mps2 * cycle^2 / 2 (1.5 cm at 3 m/s^2 and 100 ms), "
+    "what a follower can gain on a leader at the same speed within one cycle, since the plant bounds a cycle's "
+    "motion by its end points only",
+    lambda o, p, s, i: p.safety_margin_m >= one_cycle_closing_m(o, p),
+)
+
+FOLLOWER = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT)
+"""What relative braking's invariant (SEP-01) assumes: the follower's own closed loop, nothing of the leader."""
+BRICK_WALL = (*FOLLOWER, LEADER, REPORT_REAR)
 RELATIVE = (*BRICK_WALL, REPORT_STOP, LEADER_BRAKING, FLEET)
 
 
@@ -128,81 +154,84 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     n_t, n_be = whole_cycles(preset, fixed)
     fixed = {k: v for k, v in fixed.items() if k != "eoa_m"}
     fixed = {**fixed, "brick_wall": mode == "bw", "leader_max_deceleration_mps2": fixed["max_deceleration_mps2"]}
-    common = dict(node=TWO_TRAINS, assumptions=BRICK_WALL if mode == "bw" else RELATIVE, fixed_params=fixed)
+    assumptions = BRICK_WALL if mode == "bw" else RELATIVE
+    common = dict(node=TWO_TRAINS, fixed_params=fixed)
     reports = f"separation.reports_behind_leader_{mode}_{preset}"
     invariant = f"separation.braking_invariant_{mode}_{preset}"
     earliest = f"separation.leader_stop_is_earliest_{preset}"
     never_recedes = f"separation.leader_stop_never_recedes_{preset}"
-    leader = () if mode == "bw" else (
+    name = {"bw": "brick-wall", "rbd": "relative braking"}[mode]
+    reports_behind = Property(
+        name=reports, requirement="SEP-00", seed="001 §3.2",
+        text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
+              "never ahead of the leader's true ones."),
+        holds=(lambda o, p, s, i, out, nxt: o.and_(s.leader_known, s.best_rear_m <= s.leader_rear_m))
+        if mode == "bw" else (lambda o, p, s, i, out, nxt: o.and_(
+            s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m)),
+        assumptions=assumptions, **common,
+    )
+    if mode == "bw":
+        return (
+            reports_behind,
+            Property(
+                name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
+                text=(f"{preset}, brick wall: the closed loop's braking invariant (CL-00) holds for the leader's "
+                      "true rear less the safety margin as the end of authority."),
+                holds=lambda o, p, s, i, out, nxt: braking_invariant(
+                    o, p, s, s.leader_rear_m - p.safety_margin_m, n_t, n_be),
+                assumptions=assumptions, lemmas=(reports,), cases=brake_cycle_cases(n_be), **common,
+            ),
+            Property(
+                name=f"separation.no_collision_bw_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
+                text=(f"{preset}, brick wall: whatever the leader does (within its assumptions) and whatever the "
+                      "follower's driver or ATO commands, the follower's true front stays at least the safety "
+                      "margin behind the leader's true rear, with reports delayed, reordered or lost."),
+                holds=lambda o, p, s, i, out, nxt: s.front_m + p.safety_margin_m <= s.leader_rear_m,
+                assumptions=assumptions, lemmas=(invariant,), **common,
+            ),
+        )
+    return (
         Property(
             name=earliest, requirement="SEP-03", seed="001 §3.2 (Fig. 6)",
-            text=(f"{preset}: the leader's earliest stopping point is its true rear plus its stopping distance from "
-                  "its true speed at its highest deceleration."),
-            holds=lambda o, p, s, i, out, nxt: o.eq(
+            text=(f"{preset}: the leader's speed is >= 0 and its earliest stopping point is its true rear plus its "
+                  "stopping distance from its true speed at its highest deceleration."),
+            holds=lambda o, p, s, i, out, nxt: o.and_(s.leader_speed_mps >= o.const(0), o.eq(
                 o.const(2) * p.leader_max_deceleration_mps2 * (s.leader_stop_m - s.leader_rear_m),
-                s.leader_speed_mps * s.leader_speed_mps),
-            **common,
+                s.leader_speed_mps * s.leader_speed_mps)),
+            assumptions=assumptions, **common,
         ),
         Property(
             name=never_recedes, requirement="SEP-04", seed="001 §3.2 (Fig. 6)",
             text=(f"{preset}: the leader's earliest stopping point never moves back (it never brakes harder than its "
                   "highest deceleration), so every report's stopping point bounds every later one from below."),
             holds=lambda o, p, s, i, out, nxt: nxt.leader_stop_m >= s.leader_stop_m,
-            lemmas=(earliest,),
-            **common,
+            assumptions=assumptions, lemmas=(earliest,), **common,
         ),
-    )
-    if mode == "bw":
-        bound, target = "rear", (lambda o, p, s: s.leader_rear_m)
-        no_collision = ("the follower's true front stays at least the safety margin behind the leader's true rear",
-                        lambda o, p, s, i, out, nxt: s.front_m + p.safety_margin_m <= s.leader_rear_m)
-    else:
-        bound, target = "earliest stopping point", (lambda o, p, s: s.leader_stop_m)
-        no_collision = ("the follower's true front stays behind the leader's true rear",
-                        lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m)
-    name = {"bw": "brick-wall", "rbd": "relative braking"}[mode]
-    return (
-        *leader,
-        Property(
-            name=reports, requirement="SEP-00", seed="001 §3.2",
-            text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
-                  "never ahead of the leader's true ones."),
-            holds=(lambda o, p, s, i, out, nxt: o.and_(s.leader_known, s.best_rear_m <= s.leader_rear_m))
-            if mode == "bw" else (lambda o, p, s, i, out, nxt: o.and_(
-                s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m)),
-            **common,
-        ),
+        reports_behind,
         Property(
             name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
-            text=(f"{preset}, {name}: the closed loop's braking invariant (CL-00) holds for the leader's true "
-                  f"{bound} less the safety margin as the end of authority."),
-            holds=lambda o, p, s, i, out, nxt: braking_invariant(
-                o, p, s, target(o, p, s) - p.safety_margin_m, n_t, n_be),
-            lemmas=(reports,) if mode == "bw" else (reports, never_recedes), cases=brake_cycle_cases(n_be),
-            **common,
+            text=(f"{preset}, relative braking: once the leader has reported, the rear bound kept is never ahead "
+                  "of the stopping-point bound, and the closed loop's braking invariant (CL-00) holds for the "
+                  "best reported stopping point less the safety margin (never ahead of the leader's true one, "
+                  "SEP-00) as the end of authority; nothing about the leader is assumed."),
+            holds=lambda o, p, s, i, out, nxt: o.and_(
+                s.leader_known, s.best_rear_m <= s.best_stop_m,
+                braking_invariant(o, p, s, s.best_stop_m - p.safety_margin_m, n_t, n_be)),
+            assumptions=FOLLOWER, cases=brake_cycle_cases(n_be), **common,
         ),
         Property(
-            name=f"separation.no_collision_{mode}_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
-            text=(f"{preset}, {name}: whatever the leader does (within its assumptions) and whatever the follower's "
-                  f"driver or ATO commands, {no_collision[0]}, with reports delayed, reordered or lost."),
-            holds=no_collision[1],
-            lemmas=(invariant,),
+            name=f"separation.no_collision_rbd_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
+            text=(f"{preset}, relative braking: whatever the leader does (never braking harder than its highest "
+                  "deceleration) and whatever the follower's driver or ATO commands, the follower's true front "
+                  "stays behind the leader's true rear, with reports delayed, reordered or lost."),
+            holds=lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m,
+            assumptions=(*assumptions, MARGIN), lemmas=(invariant, reports, earliest), cases=brake_cycle_cases(n_be),
             **common,
         ),
     )
 
 
-def _pending(prop: Property) -> bool:
-    return prop.name.startswith(("separation.braking_invariant_rbd", "separation.no_collision_rbd"))
+PROPERTIES = tuple(p for name, fixed in PRESETS.items() for mode in ("bw", "rbd")
+                   for p in separation_properties(name, fixed, mode))
 
-
-_ALL = tuple(p for name, fixed in PRESETS.items() for mode in ("bw", "rbd")
-             for p in separation_properties(name, fixed, mode))
-PROPERTIES = tuple(p for p in _ALL if not _pending(p))
-PENDING = tuple(p for p in _ALL if _pending(p))
-"""Relative braking's braking invariant and no-collision claim: stated (and falsified on the guaranteed-deceleration
-mutant in the tests) but not yet proved in CI: the invariant proves in about 3 minutes per preset with the
-leader's monotone stopping point given as an input assumption, and the no-collision step needs the concavity of
-the gap (README). Not registered, so ``atcs prove`` does not report them."""
-
-__all__ = ["BRICK_WALL", "PENDING", "PROPERTIES", "RELATIVE", "separation_properties"]
+__all__ = ["BRICK_WALL", "FOLLOWER", "MARGIN", "PROPERTIES", "RELATIVE", "separation_properties"]

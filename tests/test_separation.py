@@ -1,7 +1,7 @@
-"""Two trains (seed 001 §3.2 Fig. 6): brick-wall separation proved for the presets; relative braking's lemmas
-proved; every property falsified on a mutant (each counterexample replays) on a coarse-cycle variant of seed 000
-as in test_closed_loop.py; the leader's stopping point computed with a guaranteed deceleration gives a collision,
-kept as a regression example."""
+"""Two trains (seed 001 §3.2 Fig. 6): brick-wall and relative-braking separation proved for the presets and a
+coarse-cycle variant of seed 000 (as in test_closed_loop.py); every property falsified on a mutant of that variant
+(each counterexample replays); the leader's stopping point computed with a guaranteed deceleration gives a
+collision, kept as a regression example."""
 
 import dataclasses
 import json
@@ -23,7 +23,7 @@ from atcs.proofs.mutants import falsify, patched
 from atcs.proofs.trace import from_json, replay, reproduce, to_json
 from atcs.properties import PROPERTIES, select
 from atcs.properties.closed_loop import PRESETS, preset_data
-from atcs.properties.separation import PENDING, separation_properties
+from atcs.properties.separation import separation_properties
 from atcs.sim.drivers import worst_case_driver
 from atcs.sim.monitor import Monitor
 
@@ -31,10 +31,8 @@ SEPARATION_PROPERTIES = select("separation.*")
 
 COARSE_DATA = preset_data(dataclasses.replace(seed000_train(), t_be_s=Fraction(8, 5)), subset026_national(),
                           cycle_s=Fraction(4, 5))
-COARSE = {p.name: p for mode in ("bw", "rbd") for p in separation_properties("coarse", COARSE_DATA, mode)
-          if not p.name.startswith(("separation.braking_invariant_rbd", "separation.no_collision_rbd"))}
-COARSE_RBD_COLLISION = next(p for p in separation_properties("coarse", COARSE_DATA, "rbd")
-                            if p.name == "separation.no_collision_rbd_coarse")
+COARSE = {p.name: p for mode in ("bw", "rbd") for p in separation_properties("coarse", COARSE_DATA, mode)}
+COARSE_RBD_COLLISION = COARSE["separation.no_collision_rbd_coarse"]
 
 REGRESSION = Path(__file__).parent / "regression" / "falsified" / "leader_guaranteed_deceleration.json"
 
@@ -64,6 +62,9 @@ MUTANTS = {
         (authority.leader_limit_m, "o.ite(certain_only, r.best_rear_m, r.best_stop_m)", "r.best_stop_m"),
     ],
     "reports_behind_leader_rbd": [GUARANTEED],
+    # no safety margin before the best reported stopping point
+    "braking_invariant_rbd": [(authority.leader_limit_m, _LIMIT, _LIMIT.replace(" - p.safety_margin_m", ""))],
+    "no_collision_rbd": [GUARANTEED],
     # the leader's physics with half its highest deceleration
     "leader_stop_is_earliest": [(separation.earliest_stop_m, "(o.const(2) * deceleration)", "deceleration")],
     # the ghost stopping point taken from the rear before this cycle's motion
@@ -77,12 +78,6 @@ MUTANTS = {
 def test_every_separation_property_has_a_mutant():
     assert {_kind(p.name) for p in SEPARATION_PROPERTIES} == set(MUTANTS)
     assert {_kind(p.name) for p in COARSE.values()} == set(MUTANTS)
-
-
-def test_pending_relative_braking_claims_are_not_registered():
-    assert {p.name for p in PENDING} == {f"separation.{k}_rbd_{preset}" for k in ("braking_invariant", "no_collision")
-                                         for preset in ("seed000", "seed002")}
-    assert not set(PROPERTIES) & {p.name for p in PENDING}
 
 
 @pytest.fixture(scope="module")
@@ -144,7 +139,7 @@ def write_regression() -> None:
     REGRESSION.write_text(json.dumps(to_json(result.trace, replayed), indent=2) + "\n")
 
 
-# --- simulation: the same step function and predicates (the pending ones too) on exact numbers -----------------
+# --- simulation: the same step function and predicates on exact numbers -----------------
 
 
 def _leader_motion(speed_mps, accel_mps2, dt):
@@ -161,7 +156,7 @@ def _leader_motion(speed_mps, accel_mps2, dt):
 def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, seed):
     """The follower is driven at full traction whenever its ATP lets it (the service brake ignored, the weakest
     braking once EB is effective), the leader runs then brakes as hard as it can to a stop, and reports arrive
-    late and out of order. Every separation predicate, the pending relative-braking ones included, holds at every
+    late and out of order. Every separation predicate of the mode holds at every
     cycle, and the follower is stopped by its ATP behind the leader (released at each standstill, it closes in
     again until the leader has stopped)."""
     event(mode)
@@ -184,7 +179,7 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
                           eb_latched=True, sb_latched=False, leader_known=True, best_rear_m=rear, best_stop_m=stop,
                           since_report_s=Fraction(0), leader_rear_m=rear, leader_speed_mps=leader_v,
                           leader_stop_m=stop)
-    props = tuple(p for p in (*SEPARATION_PROPERTIES, *PENDING) if p.name.endswith(f"{mode}_seed000")
+    props = tuple(p for p in SEPARATION_PROPERTIES if p.name.endswith(f"{mode}_seed000")
                   or (mode == "rbd" and p.name.startswith("separation.leader_stop") and p.name.endswith("seed000")))
     monitor = Monitor(TWO_TRAINS, params, start, props, ops=EXACT)
     history = [(rear, leader_v)]
