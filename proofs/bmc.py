@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import z3
 
+from atcs.model.ops.symbolic import context
 from atcs.proofs.system import Unrolling
 
 
@@ -26,7 +27,7 @@ class Check:
 def new_solver() -> z3.Solver:
     """The solver of every check: z3's SMT core after preprocessing that substitutes the transition's
     equalities and lifts ``ite`` terms out (on the closed-loop invariant, 200x faster than the default)."""
-    return z3.Then("simplify", "propagate-values", "solve-eqs", "elim-term-ite", "smt").solver()
+    return z3.Then("simplify", "propagate-values", "solve-eqs", "elim-term-ite", "smt", ctx=context()).solver()
 
 
 def solve(solver: z3.Solver, goal: z3.BoolRef, timeout_s: float) -> Check:

@@ -61,8 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--only", metavar="PATTERN", help="glob over property names, e.g. 'supervision.*'")
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
-    p.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=120.0,
-                   help="per-property time limit, lemmas included; past it the verdict is unknown (default 120)")
+    p.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=600.0,
+                   help="per-property time limit, lemmas included; past it the verdict is unknown (default 600)")
     p.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
     p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
                    help="where counterexamples are written as JSON and CSV (default ./counterexamples)")

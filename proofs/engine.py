@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from atcs.model import ops
+from atcs.model.ops.symbolic import fresh_context
 from atcs.proofs.bmc import Bmc, Check
 from atcs.proofs.induction import Induction
 from atcs.proofs.system import Unrolling
@@ -81,7 +82,15 @@ def prove(
     ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry). ``proved``
     collects the lemma results of one run by name, so a lemma several properties share is proved once;
     share it only between properties of the same registry, never across a mutated model.
+
+    Each proof (each lemma's too) builds its terms in a fresh z3 context, so its verdict and time do not
+    depend on what the process proved before.
     """
+    with fresh_context():
+        return _prove(prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, _chain=_chain)
+
+
+def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
     if timeout_s <= 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
     start = time.monotonic()

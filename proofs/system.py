@@ -21,12 +21,12 @@ import z3
 
 from atcs.model.node import Node, Sort
 from atcs.model.ops import to_fraction
-from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, unwrap
+from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, context, unwrap, wrap
 from atcs.properties.property import Property
 
 
 def _variable(kind: str, label: str):
-    return Real(z3.Real(label)) if kind == "real" else Bool(z3.Bool(label))
+    return Real(z3.Real(label, context())) if kind == "real" else Bool(z3.Bool(label, context()))
 
 
 def variable(name: str, sort: Sort, suffix: str | None):
@@ -46,9 +46,9 @@ def _fixed_scalar(node: Node, name: str, kind: str, value):
     if kind == "bool":
         if not isinstance(value, bool):
             raise TypeError(f"fixed parameter {name!r} of node {node.name!r} is boolean, got {value!r}")
-        return Bool(z3.BoolVal(value))
+        return Bool(z3.BoolVal(value, context()))
     f = to_fraction(value, what=f"fixed parameter {name!r}")
-    return Real(z3.Q(f.numerator, f.denominator))
+    return Real(z3.Q(f.numerator, f.denominator, context()))
 
 
 def _fixed(node: Node, name: str, value):
@@ -63,7 +63,7 @@ def _fixed(node: Node, name: str, value):
 def equal(left, right) -> z3.BoolRef:
     """Two field values (scalars or tuples) are equal."""
     if isinstance(left, tuple):
-        return z3.And(*[unwrap(SYMBOLIC.eq(a, b)) for a, b in zip(left, right, strict=True)])
+        return unwrap(SYMBOLIC.and_(*(SYMBOLIC.eq(a, b) for a, b in zip(left, right, strict=True))))
     return unwrap(SYMBOLIC.eq(left, right))
 
 
@@ -115,7 +115,8 @@ class Unrolling:
         computed, out = node.step(o, p, s, i)
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
-        trans = z3.And(*[equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state")])
+        equalities = (wrap(equal(getattr(nxt, n), getattr(computed, n))) for n in node.sorts("state"))
+        trans = unwrap(o.and_(*equalities))
         assumed = unwrap(self.prop.assumed(o, p, s, i))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
         lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
@@ -124,8 +125,8 @@ class Unrolling:
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""
         sa, sb = self.state(a), self.state(b)
-        diffs = [z3.Not(equal(getattr(sa, n), getattr(sb, n))) for n in self.node.sorts("state")]
-        return z3.Or(*diffs) if diffs else z3.BoolVal(False)
+        diffs = [SYMBOLIC.not_(wrap(equal(getattr(sa, n), getattr(sb, n)))) for n in self.node.sorts("state")]
+        return unwrap(SYMBOLIC.or_(*diffs))
 
 
 def model_value(model: z3.ModelRef, value):

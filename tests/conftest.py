@@ -1,7 +1,12 @@
 """Test configuration: a deterministic hypothesis profile for CI (and by default)."""
 
+import contextlib
+import io
+import json
 import os
+from types import SimpleNamespace
 
+import pytest
 from hypothesis import HealthCheck, settings
 
 settings.register_profile(
@@ -11,10 +16,19 @@ settings.register_profile("dev", deadline=None, max_examples=1000)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
-def pytest_collection_modifyitems(session, config, items):
-    """Run the closed-loop proofs first. z3's search on some of their mutants' BMC queries depends on the terms
-    the process made before (its heuristics follow term ids): in a fresh process each takes seconds, after the
-    rest of the suite one took over 300 s. Until the engine builds each proof in a fresh z3 context, they go
-    first (README, Determinism)."""
-    first = [item for item in items if item.path.name == "test_closed_loop.py"]
-    items[:] = first + [item for item in items if item.path.name != "test_closed_loop.py"]
+@pytest.fixture(scope="session")
+def proof_suite_run(tmp_path_factory):
+    """``atcs prove --jobs 2`` over every registered property, once per test session: the command line's own
+    run, whose report the tests of the command line and of each proof module read (the proofs are the suite's
+    biggest cost; each is run once, in worker processes, so this process's z3 context stays fresh)."""
+    from atcs.proofs.cli import main
+
+    out_dir = tmp_path_factory.mktemp("prove")
+    paths = SimpleNamespace(json=out_dir / "r.json", junit=out_dir / "r.xml", cex=out_dir / "cex")
+    stdout = io.StringIO()
+    with contextlib.redirect_stdout(stdout):
+        code = main(["prove", "--jobs", "2", "--json", str(paths.json), "--junit", str(paths.junit),
+                     "--cex-dir", str(paths.cex)])
+    doc = json.loads(paths.json.read_text())
+    return SimpleNamespace(code=code, doc=doc, by_name={p["name"]: p for p in doc["properties"]},
+                           stdout=stdout.getvalue(), **vars(paths))

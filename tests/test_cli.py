@@ -37,21 +37,20 @@ def one_line_error(capsys, *expected):
 
 
 class TestProve:
-    def test_all_proved_exit_0_with_reports(self, tmp_path, capsys):
-        report, junit = tmp_path / "r.json", tmp_path / "r.xml"
-        code = main(["prove", "--json", str(report), "--junit", str(junit), "--cex-dir", str(tmp_path / "cex")])
-        assert code == 0
-        doc = json.loads(report.read_text())
+    def test_all_proved_exit_0_with_reports(self, proof_suite_run):
+        run = proof_suite_run  # atcs prove --jobs 2 --json --junit --cex-dir, once per session (conftest.py)
+        assert run.code == 0
+        doc = run.doc
         names = [p["name"] for p in doc["properties"]]
         assert names == list(PROPERTIES)
         for p in doc["properties"]:
             assert {"name", "requirement", "status", "engine", "k", "seconds", "counterexample"} <= set(p)
             assert p["status"] == "proved" and p["engine"] == "k-induction" and p["counterexample"] is None
-        cases = ET.parse(junit).getroot().findall("./testsuite/testcase")
+        cases = ET.parse(run.junit).getroot().findall("./testsuite/testcase")
         assert [c.get("name") for c in cases] == names
         assert not any(c.find("failure") is not None or c.find("error") is not None for c in cases)
-        assert not (tmp_path / "cex").exists()
-        assert "supervision.eb_latched_until_standstill" in capsys.readouterr().out
+        assert not run.cex.exists()
+        assert "supervision.eb_latched_until_standstill" in run.stdout
 
     def test_only_selects_by_glob(self, tmp_path):
         report = tmp_path / "r.json"
@@ -60,12 +59,16 @@ class TestProve:
         assert names == ["supervision.eb_above_ebi", "supervision.eb_latched_until_standstill",
                          "supervision.eb_without_position"]
 
-    def test_parallel_jobs_give_the_same_verdicts(self, tmp_path):
+    def test_one_job_gives_the_same_verdicts(self, tmp_path, proof_suite_run):
+        """One process (lemma results shared in it) against the session's two workers, on the properties with
+        lemmas that prove in seconds."""
         report = tmp_path / "r.json"
-        assert main(["prove", "--jobs", "2", "--json", str(report)]) == 0
-        doc = json.loads(report.read_text())
-        assert [p["name"] for p in doc["properties"]] == list(PROPERTIES)
-        assert {p["status"] for p in doc["properties"]} == {"proved"}
+        assert main(["prove", "--jobs", "1", "--only", "resources.*", "--json", str(report)]) == 0
+        records = json.loads(report.read_text())["properties"]
+        assert [p["name"] for p in records] == [name for name in PROPERTIES if name.startswith("resources.")]
+        assert {p["name"]: (p["status"], p["k"]) for p in records} == {
+            p["name"]: (proof_suite_run.by_name[p["name"]]["status"], proof_suite_run.by_name[p["name"]]["k"])
+            for p in records}
 
     def test_falsified_exit_1_writes_replayable_counterexample(self, tmp_path, latch_mutant_registered, capsys):
         report, junit, cex = tmp_path / "r.json", tmp_path / "r.xml", tmp_path / "cex"

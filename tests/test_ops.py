@@ -9,7 +9,7 @@ import z3
 from atcs.model.ops import backends
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
-from atcs.model.ops.symbolic import Bool, Real, SymbolicValueError, unwrap
+from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, SymbolicValueError, fresh_context, unwrap
 
 
 def sym_value(value):
@@ -159,6 +159,26 @@ class TestSymbolicRefusals:
     def test_not_hashable(self):
         with pytest.raises(TypeError):
             hash(self.x)
+
+
+class TestFreshContext:
+    """Each proof builds its terms in a z3 context of its own (README, Determinism)."""
+
+    def test_every_constant_goes_to_the_block_context(self):
+        o = SYMBOLIC
+        with fresh_context() as ctx:
+            values = (o.const(1), o.const_bool(True), o.and_(), o.or_(), o.find((o.const(2),), o.const(2))[1])
+            assert all(unwrap(v).ctx is ctx for v in values)
+            with fresh_context() as inner:
+                assert inner is not ctx and unwrap(o.const(1)).ctx is inner
+            assert unwrap(o.const(1)).ctx is ctx
+        assert unwrap(o.const(1)).ctx is z3.main_ctx()
+
+    def test_terms_of_two_contexts_do_not_mix(self):
+        with fresh_context():
+            x = Real(z3.Real("x", SYMBOLIC.const(0).term.ctx))
+        with pytest.raises(z3.Z3Exception):
+            unwrap(x + Real(z3.Real("y")))
 
 
 class TestExactBackend:

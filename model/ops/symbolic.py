@@ -10,11 +10,31 @@ simulator fails loudly instead.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from fractions import Fraction
 
 import z3
 
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction
+
+_contexts: list[z3.Context | None] = [None]
+
+
+def context() -> z3.Context | None:
+    """The z3 context new terms are made in (None: z3's main context)."""
+    return _contexts[-1]
+
+
+@contextmanager
+def fresh_context() -> Iterator[z3.Context]:
+    """Within the block, every new term is made in a new z3 context of its own. z3's search follows term ids,
+    so a query built in a fresh context is solved the same way whatever the process did before."""
+    _contexts.append(z3.Context())
+    try:
+        yield _contexts[-1]
+    finally:
+        _contexts.pop()
 
 
 class SymbolicValueError(TypeError):
@@ -37,7 +57,7 @@ def _term(value) -> z3.ArithRef:
             "use o.const(...) with an int, a Fraction or a decimal string"
         )
     value = Fraction(value)
-    return z3.Q(value.numerator, value.denominator)
+    return z3.Q(value.numerator, value.denominator, context())
 
 
 class _Symbolic:
@@ -118,7 +138,7 @@ def _bool_term(value) -> z3.BoolRef:
     if isinstance(value, Bool):
         return value.term
     if isinstance(value, bool):
-        return z3.BoolVal(value)
+        return z3.BoolVal(value, context())
     raise SymbolicValueError(f"expected a symbolic or Python bool, got {type(value).__name__} {value!r}")
 
 
@@ -149,7 +169,7 @@ class SymbolicOps:
         return Real(_term(to_fraction(value)))
 
     def const_bool(self, value: bool) -> Bool:
-        return Bool(z3.BoolVal(bool(value)))
+        return Bool(z3.BoolVal(bool(value), context()))
 
     def ite(self, cond, then, else_):
         return wrap(z3.If(_bool_term(cond), _any_term(then), _any_term(else_)))
@@ -169,10 +189,10 @@ class SymbolicOps:
         return Real(result)
 
     def and_(self, *args) -> Bool:
-        return Bool(z3.And(*[_bool_term(a) for a in args]) if args else z3.BoolVal(True))
+        return Bool(z3.And(*[_bool_term(a) for a in args]) if args else z3.BoolVal(True, context()))
 
     def or_(self, *args) -> Bool:
-        return Bool(z3.Or(*[_bool_term(a) for a in args]) if args else z3.BoolVal(False))
+        return Bool(z3.Or(*[_bool_term(a) for a in args]) if args else z3.BoolVal(False, context()))
 
     def not_(self, arg) -> Bool:
         return Bool(z3.Not(_bool_term(arg)))
@@ -194,10 +214,10 @@ class SymbolicOps:
     def find(self, keys, key):
         check_table("find", keys)
         k = _term(key)
-        found, index = z3.BoolVal(False), z3.RealVal(0)
+        found, index = z3.BoolVal(False, context()), z3.RealVal(0, context())
         for j in range(len(keys) - 1, -1, -1):
             match = _term(keys[j]) == k
-            found, index = z3.Or(match, found), z3.If(match, z3.RealVal(j), index)
+            found, index = z3.Or(match, found), z3.If(match, z3.RealVal(j, context()), index)
         return Bool(found), Real(index)
 
     def sort_by_key(self, keys, *columns):
