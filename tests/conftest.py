@@ -22,6 +22,11 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 _PROOF_RUN: dict = {}
 
 
+def pytest_collection_modifyitems(session, config, items):
+    """The tests that read the session's proof report run last, so the rest overlaps the proof run."""
+    items.sort(key=lambda item: "proof_suite_run" in getattr(item, "fixturenames", ()))
+
+
 def pytest_collection_finish(session):
     """Start ``atcs prove --jobs 2`` over the whole registry as soon as the tests that read its report are
     collected, so its two workers prove while this process runs the other tests."""
