@@ -22,7 +22,7 @@ import time
 
 import z3
 
-from atcs.model.ops.symbolic import SYMBOLIC, unwrap, wrap
+from atcs.model.ops.symbolic import SYMBOLIC, unwrap
 from atcs.proofs.bmc import Check, new_solver, solve
 from atcs.proofs.system import Unrolling
 
@@ -48,9 +48,9 @@ class Induction:
             return solve(self.solver, z3.Not(f.prop), timeout_s)
         end = time.monotonic() + timeout_s
         before = self.u.state(max(k - 1, 0))
-        cases = [unwrap(case) for case in self.u.prop.cases(SYMBOLIC, self.u.params, before)]
-        for case in (*cases, unwrap(SYMBOLIC.not_(SYMBOLIC.or_(*map(wrap, cases))))):
-            check = solve(self.solver, z3.And(z3.Not(f.prop), case), max(end - time.monotonic(), 0.001))
+        cases = self.u.prop.cases(SYMBOLIC, self.u.params, before)
+        for case in (*cases, SYMBOLIC.not_(SYMBOLIC.or_(*cases))):
+            check = solve(self.solver, z3.And(z3.Not(f.prop), unwrap(case)), max(end - time.monotonic(), 0.001))
             if check.result != "unsat":
                 return check
         return Check("unsat")

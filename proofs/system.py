@@ -21,7 +21,7 @@ import z3
 
 from atcs.model.node import Node, Sort
 from atcs.model.ops import to_fraction
-from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, context, unwrap, wrap
+from atcs.model.ops.symbolic import SYMBOLIC, Bool, Real, context, unwrap
 from atcs.properties.property import Property
 
 
@@ -60,11 +60,11 @@ def _fixed(node: Node, name: str, value):
     return tuple(_fixed_scalar(node, f"{name}[{j}]", sort.kind, v) for j, v in enumerate(value))
 
 
-def equal(left, right) -> z3.BoolRef:
+def equal(left, right) -> Bool:
     """Two field values (scalars or tuples) are equal."""
     if isinstance(left, tuple):
-        return unwrap(SYMBOLIC.and_(*(SYMBOLIC.eq(a, b) for a, b in zip(left, right, strict=True))))
-    return unwrap(SYMBOLIC.eq(left, right))
+        return SYMBOLIC.and_(*(SYMBOLIC.eq(a, b) for a, b in zip(left, right, strict=True)))
+    return SYMBOLIC.eq(left, right)
 
 
 @dataclass
@@ -115,8 +115,7 @@ class Unrolling:
         computed, out = node.step(o, p, s, i)
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
-        equalities = (wrap(equal(getattr(nxt, n), getattr(computed, n))) for n in node.sorts("state"))
-        trans = unwrap(o.and_(*equalities))
+        trans = unwrap(o.and_(*(equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state"))))
         assumed = unwrap(self.prop.assumed(o, p, s, i))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
         lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
@@ -125,8 +124,8 @@ class Unrolling:
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""
         sa, sb = self.state(a), self.state(b)
-        diffs = [SYMBOLIC.not_(wrap(equal(getattr(sa, n), getattr(sb, n)))) for n in self.node.sorts("state")]
-        return unwrap(SYMBOLIC.or_(*diffs))
+        return unwrap(SYMBOLIC.or_(*(SYMBOLIC.not_(equal(getattr(sa, n), getattr(sb, n)))
+                                     for n in self.node.sorts("state"))))
 
 
 def model_value(model: z3.ModelRef, value):
