@@ -1,10 +1,11 @@
-"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``bench``.
+"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``bench``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
 (an ``error`` verdict is never a pass). ``replay``: 0 the violation is
 reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
-``curves``: 0, or 2 for bad train or track data. ``bench``: 0, or 2 for an unknown benchmark name.
+``curves``: 0, or 2 for bad train or track data. ``platforms``: 0, or 2 for bad platform data.
+``bench``: 0, or 2 for an unknown benchmark name.
 """
 
 from __future__ import annotations
@@ -87,6 +88,14 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument("--out", metavar="DIR", default="curves",
                    help="where curves.png and curves.svg go (default ./curves)")
 
+    t = sub.add_parser("platforms", help="decode platform data (packet 69 / 44 hex, or a TOML table) and show it")
+    t.add_argument("file", nargs="?", metavar="FILE.toml", help="a file with a [platforms] section")
+    t.add_argument("--packet", metavar="HEX", help="a packet 69 or user packet 44, as hex")
+    t.add_argument("--reference-m", metavar="M", default="0",
+                   help="where the packet's balise group was read (m, default 0)")
+    t.add_argument("--encode", choices=("69", "44"), default=None,
+                   help="also print the platforms as a packet of this kind (hex, Q_SCALE 1 m)")
+
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
     return parser
@@ -98,7 +107,8 @@ def main(argv: list[str] | None = None) -> int:
         out = Console(width=160)
     try:
         args = build_parser().parse_args(argv)
-        command = {"prove": _prove, "replay": _replay, "curves": _curves, "bench": _bench}[args.command]
+        command = {"prove": _prove, "replay": _replay, "curves": _curves, "platforms": _platforms,
+                   "bench": _bench}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -206,6 +216,47 @@ def _replay(args, out: Console, err: Console) -> int:
         out.print(f"[bold red]violated at step {first}[/]"
                   + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})"))
     return EXIT_OK if result.reproduced else EXIT_FALSIFIED
+
+
+# --- platforms ---------------------------------------------------------------------------
+
+
+def _platforms(args, out: Console, err: Console) -> int:
+    from atcs.model.bits import PacketError, hex_bytes
+    from atcs.model.platform_packets import Q_DIR, decode_platform_packet, encode_platform_packet
+    from atcs.model.platforms import PlatformDataError, packet_for_platforms, platforms_from_packet, read_platform_data
+    from atcs.model.profile import parse_number
+
+    if (args.file is None) == (args.packet is None):
+        raise UsageError("platforms: give either FILE.toml or --packet HEX")
+    try:
+        reference_m = parse_number("--reference-m", "metres", args.reference_m, PlatformDataError)
+        if args.file is not None:
+            platforms = read_platform_data(args.file)
+        else:
+            packet = decode_platform_packet(hex_bytes(args.packet))
+            platforms = platforms_from_packet(packet, reference_m)
+            if packet.elements and not platforms:
+                out.print(f"the packet's Q_DIR is {packet.q_dir} ({Q_DIR[packet.q_dir]}): no platforms for a train "
+                          "running in the nominal direction")
+    except PlatformDataError as exc:
+        raise UsageError(f"platforms: {exc}") from None
+    except PacketError as exc:
+        raise UsageError(f"platforms: --packet: {exc}") from None
+    table = Table(title=f"{len(platforms)} platforms")
+    for column in ("start (m)", "end (m)", "length (m)", "side", "height (mm)"):
+        table.add_column(column, justify="left" if column == "side" else "right")
+    for p in platforms:
+        table.add_row(str(p.start_m), str(p.end_m), str(p.end_m - p.start_m), p.side,
+                      "" if p.height_mm is None else str(p.height_mm))
+    out.print(table)
+    if args.encode:
+        try:
+            packet = packet_for_platforms(platforms, reference_m, nid_packet=int(args.encode))
+            out.print(f"packet {args.encode}: {encode_platform_packet(packet).hex()}")
+        except (ValueError, PacketError) as exc:
+            raise UsageError(f"platforms: --encode {args.encode}: {exc}") from None
+    return EXIT_OK
 
 
 # --- curves ------------------------------------------------------------------------------

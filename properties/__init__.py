@@ -12,6 +12,7 @@ from atcs.properties import (
     closed_loop,
     curves,
     deceleration,
+    doors,
     mrsp,
     position,
     preprocessing,
@@ -39,7 +40,7 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
     curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
-    authority.PROPERTIES, separation.PROPERTIES,
+    authority.PROPERTIES, separation.PROPERTIES, doors.PROPERTIES,
 )
 
 

@@ -1,0 +1,204 @@
+"""The platform table the door-enable node reads (seed 004 §2.2-2.3): from a packet or from a table.
+
+A platform is a stretch of line ``[start_m, end_m]`` (line coordinates in the train's
+direction of travel) with a side (left, right or both, seen in that direction) and a
+nominal height. The table comes either from the wayside as packet 69 or user packet
+44 (:mod:`atcs.model.platform_packets`), placed at the location of the balise group
+that sent it, or from a scenario's table. Both forms are read by
+:func:`platform_data`, the one place a scenario's ``[platforms]`` section is checked::
+
+    [platforms]                      # a packet, as sent (hex), and where it was read
+    packet = "4540ce803200fa74212c007d38"
+    reference_m = 4500
+
+    [[platforms.table]]              # or a table
+    start_m = 4600
+    length_m = 250
+    side = "right"
+    height_mm = 760                  # optional
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+
+from atcs.model.bits import PacketError, hex_bytes
+from atcs.model.platform_packets import (
+    M_PLATFORM_MM,
+    MAX_DISTANCE,
+    Q_PLATFORM,
+    Q_SCALE_M,
+    Packet44Platforms,
+    Packet69,
+    PlatformElement,
+    PlatformPacket,
+    decode_platform_packet,
+)
+from atcs.model.profile import parse_number
+
+SIDES = ("left", "right", "both")
+
+
+class PlatformDataError(ValueError):
+    """Bad platform data; the message names the source, the field and the value."""
+
+
+@dataclass(frozen=True)
+class Platform:
+    start_m: Fraction
+    end_m: Fraction
+    side: str
+    """``left``, ``right`` or ``both``, in the train's direction of travel."""
+    height_mm: int | None = None
+
+    @property
+    def left(self) -> bool:
+        return self.side in ("left", "both")
+
+    @property
+    def right(self) -> bool:
+        return self.side in ("right", "both")
+
+
+def platforms_from_packet(packet: PlatformPacket, reference_m, *, direction: str = "nominal") -> tuple[Platform, ...]:
+    """The platforms a packet read at ``reference_m`` describes for a train running ``direction`` relative to the
+    balise group (none if the packet is for the other direction, or is packet 69's empty profile)."""
+    if direction not in ("nominal", "reverse"):
+        raise ValueError(f"direction must be 'nominal' or 'reverse', got {direction!r}")
+    if packet.q_dir not in ({"nominal": 1, "reverse": 0}[direction], 2):
+        return ()
+    scale = Q_SCALE_M[packet.q_scale]
+    start, platforms = Fraction(reference_m), []
+    for element in packet.elements:
+        start += element.d_trackcond * scale
+        platforms.append(Platform(start, start + element.l_trackcond * scale, Q_PLATFORM[element.q_platform],
+                                  M_PLATFORM_MM[element.m_platform]))
+    return tuple(platforms)
+
+
+def packet_for_platforms(platforms: Sequence[Platform], reference_m, *, q_scale: int = 1, nid_packet: int = 69,
+                         q_dir: int = 1) -> PlatformPacket:
+    """The packet that :func:`platforms_from_packet` turns back into ``platforms`` (sorted by start, each
+    distance a whole number of Q_SCALE units from the previous start); a ValueError names what does not fit."""
+    if q_scale not in Q_SCALE_M:
+        raise ValueError(f"q_scale must be one of {sorted(Q_SCALE_M)}, got {q_scale!r}")
+    scale, heights = Q_SCALE_M[q_scale], {mm: code for code, mm in M_PLATFORM_MM.items()}
+    previous, elements = Fraction(reference_m), []
+    for k, platform in enumerate(platforms):
+        d, length = (platform.start_m - previous) / scale, (platform.end_m - platform.start_m) / scale
+        for name, units in (("start_m", d), ("length", length)):
+            if units.denominator != 1 or not 0 <= units <= MAX_DISTANCE:
+                raise ValueError(f"platform {k}: {name} gives {units} units of {scale} m; it must be a whole number "
+                                 f"in 0..{MAX_DISTANCE}")
+        if platform.height_mm not in heights:
+            raise ValueError(f"platform {k}: height_mm = {platform.height_mm!r} has no M_PLATFORM code "
+                             f"(codes exist for {sorted(heights)})")
+        elements.append(PlatformElement(int(d), int(length), heights[platform.height_mm],
+                                        SIDES.index(platform.side)))
+        previous = platform.start_m
+    if nid_packet == 69:
+        return Packet69(q_dir, q_scale, tuple(elements))
+    if nid_packet == 44:
+        return Packet44Platforms(q_dir, q_scale, tuple(elements))
+    raise ValueError(f"nid_packet must be 69 or 44, got {nid_packet!r}")
+
+
+def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
+    """The platforms of a scenario's ``[platforms]`` section (see the module docstring); ``source`` names the file
+    in errors."""
+    where = f"{source}: [platforms]"
+    if not isinstance(section, Mapping):
+        raise PlatformDataError(f"{where} must be a table, got {section!r}")
+    unknown = sorted(set(section) - {"packet", "reference_m", "direction", "table"})
+    if unknown:
+        raise PlatformDataError(f"{where}: unknown field {unknown[0]!r} (fields: packet, reference_m, direction, "
+                                "table)")
+    if ("packet" in section) == ("table" in section):
+        raise PlatformDataError(f"{where}: give either 'packet' (hex) with 'reference_m', or 'table', not "
+                                f"{'both' if 'packet' in section else 'neither'}")
+    if "table" in section:
+        return _table(section["table"], where)
+    raw, direction = section["packet"], section.get("direction", "nominal")
+    if not isinstance(raw, str):
+        raise PlatformDataError(f"{where}: packet = {raw!r} must be a hex string")
+    if direction not in ("nominal", "reverse"):
+        raise PlatformDataError(f"{where}: direction = {direction!r} must be 'nominal' or 'reverse'")
+    if "reference_m" not in section:
+        raise PlatformDataError(f"{where}: a packet needs reference_m, where its balise group was read")
+    reference = parse_number(where, "reference_m", section["reference_m"], PlatformDataError)
+    try:
+        packet = decode_platform_packet(hex_bytes(raw))
+    except PacketError as exc:
+        raise PlatformDataError(f"{where}: packet: {exc}") from None
+    if isinstance(packet, Packet69) and packet.q_trackinit:
+        return ()
+    platforms = platforms_from_packet(packet, reference, direction=direction)
+    if not platforms and packet.elements:
+        raise PlatformDataError(f"{where}: the packet's Q_DIR ({packet.q_dir}) does not apply to a train running "
+                                f"{direction}")
+    return platforms
+
+
+def _table(rows, where: str) -> tuple[Platform, ...]:
+    if not isinstance(rows, list):
+        raise PlatformDataError(f"{where}: table = {rows!r} must be a list of [[platforms.table]] entries")
+    platforms = []
+    for k, row in enumerate(rows):
+        entry = f"{where} table[{k}]"
+        if not isinstance(row, Mapping):
+            raise PlatformDataError(f"{entry} must be a table, got {row!r}")
+        unknown = sorted(set(row) - {"start_m", "length_m", "side", "height_mm"})
+        if unknown:
+            raise PlatformDataError(f"{entry}: unknown field {unknown[0]!r} (fields: start_m, length_m, side, "
+                                    "height_mm)")
+        for key in ("start_m", "length_m", "side"):
+            if key not in row:
+                raise PlatformDataError(f"{entry}: {key} is missing")
+        start = parse_number(entry, "start_m", row["start_m"], PlatformDataError)
+        length = parse_number(entry, "length_m", row["length_m"], PlatformDataError)
+        if start < 0:
+            raise PlatformDataError(f"{entry}: start_m = {row['start_m']!r} is negative")
+        if length <= 0:
+            raise PlatformDataError(f"{entry}: length_m = {row['length_m']!r} must be positive")
+        if row["side"] not in SIDES:
+            raise PlatformDataError(f"{entry}: side = {row['side']!r} must be one of {', '.join(SIDES)}")
+        height = row.get("height_mm")
+        if height is not None and height not in M_PLATFORM_MM.values():
+            raise PlatformDataError(f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
+                                    f"({', '.join(map(str, M_PLATFORM_MM.values()))})")
+        platforms.append(Platform(start, start + length, row["side"], height))
+    return tuple(platforms)
+
+
+def read_platform_data(path: str | Path) -> tuple[Platform, ...]:
+    """The ``[platforms]`` section of a TOML file."""
+    try:
+        document = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise PlatformDataError(f"{path}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise PlatformDataError(f"{path}: not UTF-8 text") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise PlatformDataError(f"{path}: not valid TOML: {exc}") from None
+    if "platforms" not in document:
+        raise PlatformDataError(f"{path}: no [platforms] section")
+    return platform_data(document["platforms"], str(path))
+
+
+def platform_inputs(platforms: Sequence[Platform], capacity: int | None = None) -> dict[str, tuple]:
+    """The door-enable node's platform-table fields, padded with empty entries (no side) up to ``capacity``."""
+    capacity = len(platforms) if capacity is None else capacity
+    if len(platforms) > capacity:
+        raise ValueError(f"{len(platforms)} platforms do not fit a table of capacity {capacity}")
+    empty = Platform(Fraction(0), Fraction(0), "none")
+    rows = [*platforms, *[empty] * (capacity - len(platforms))]
+    return {
+        "platform_start_m": tuple(p.start_m for p in rows),
+        "platform_end_m": tuple(p.end_m for p in rows),
+        "platform_left": tuple(p.left for p in rows),
+        "platform_right": tuple(p.right for p in rows),
+    }
