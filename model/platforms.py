@@ -97,6 +97,9 @@ def packet_for_platforms(platforms: Sequence[Platform], reference_m, *, q_scale:
         if platform.height_mm not in heights:
             raise ValueError(f"platform {k}: height_mm = {platform.height_mm!r} has no M_PLATFORM code "
                              f"(codes exist for {sorted(heights)})")
+        if platform.side not in SIDES:
+            raise ValueError(f"platform {k}: side = {platform.side!r} has no Q_PLATFORM code "
+                             f"(codes exist for {', '.join(SIDES)})")
         elements.append(PlatformElement(int(d), int(length), heights[platform.height_mm],
                                         SIDES.index(platform.side)))
         previous = platform.start_m
