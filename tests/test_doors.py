@@ -270,3 +270,51 @@ class TestRandomRuns:
             before = monitor.state
             out = monitor.step(DcuInputs(*flags))
             assert out.closed_locked == (not (before.door_open_left or before.door_open_right))
+
+
+# --- with the position node: the interval at the stop decides ------------------------------------------------
+
+
+def position_at_stop(tacho_error):
+    """Run the position node (exact) for a train that starts on tag 4700 m, runs at up to 5 m/s and stops at
+    4840 m, reading each tag as its front passes it; return the position outputs of the cycle it stands at the
+    stopping point."""
+    from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
+
+    table = tag_table("platform line", [461, 471, 481, 491], [4600, 4700, 4800, 4900])
+    params = position_params(table, tag_window_m="0.5", tacho_error=tacho_error, train_length_m=200, cycle_s="0.1",
+                             max_acceleration_mps2=1, max_deceleration_mps2=1)
+    step = Fraction(5, 1000)  # 0.5 m/s^2 for a cycle of 0.1 s: the increment changes by 5 mm per cycle
+    increments = ([Fraction(0)] + [step * k for k in range(1, 101)] + [Fraction(1, 2)] * 180
+                  + [step * k for k in range(99, -1, -1)] + [Fraction(0)] * 3)
+    monitor = Monitor(POSITION, params, PositionState(False, Fraction(0), Fraction(0), Fraction(0)), ops=EXACT)
+    front, unread = Fraction(4700), [4700, 4800, 4900]
+    for d in increments:
+        front += d
+        read = bool(unread) and front >= unread[0] - params.tag_window_m
+        out = monitor.step(PositionInputs(tag_read=read, tag_id=Fraction(unread[0] // 10 + 1) if read else
+                                          Fraction(0), tacho_m=d))
+        if read:
+            unread.pop(0)
+        assert out.position_valid
+    assert front == STOP_M and out.standstill
+    return out
+
+
+class TestWithPositionDetermination:
+    @pytest.mark.parametrize(("tacho_error", "enabled"), [("0.01", True), ("0.03", False)])
+    def test_odometry_error_at_the_stop_decides_the_enable(self, tacho_error, enabled):
+        """The train stands at the stopping point either way; the tag 40 m back was read up to the 0.5 m window
+        early, and the interval is the estimate +-(0.5 m + e * 40 m): within a 1.5 m tolerance at e = 1 %, not
+        at e = 3 %."""
+        position = position_at_stop(tacho_error)
+        inputs = DoorEnableInputs(
+            position_valid=position.position_valid, front_min_m=position.front_min_m,
+            front_max_m=position.front_max_m, speed_mps=position.speed_est_mps, immobilised=True,
+            stopping_point_m=STOP_M, stop_tolerance_m=Fraction(3, 2), **platform_inputs(PLATFORMS, 3),
+            request_left=False, request_right=True, probe_front_m=position.front_min_m,
+            probe_door_m=TRAIN.last_door_m, doors_closed_locked=True,
+        )
+        enable_properties = tuple(p for p in DOOR_PROPERTIES if p.node is DOOR_ENABLE)
+        out = Monitor(DOOR_ENABLE, TRAIN, Stateless(), enable_properties, ops=EXACT).step(inputs)
+        assert out.enable_right is enabled and not out.enable_left
