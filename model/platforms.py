@@ -124,6 +124,9 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
         raise PlatformDataError(f"{where}: give either 'packet' (hex) with 'reference_m', or 'table', not "
                                 f"{'both' if 'packet' in section else 'neither'}")
     if "table" in section:
+        extra = sorted({"reference_m", "direction"} & set(section))
+        if extra:
+            raise PlatformDataError(f"{where}: {extra[0]} belongs to a packet; a table's positions are line positions")
         return _table(section["table"], where)
     raw, direction = section["packet"], section.get("direction", "nominal")
     if not isinstance(raw, str):
@@ -133,6 +136,8 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
     if "reference_m" not in section:
         raise PlatformDataError(f"{where}: a packet needs reference_m, where its balise group was read")
     reference = parse_number(where, "reference_m", section["reference_m"], PlatformDataError)
+    if reference < 0:
+        raise PlatformDataError(f"{where}: reference_m = {section['reference_m']!r} is negative")
     try:
         packet = decode_platform_packet(hex_bytes(raw))
     except PacketError as exc:
@@ -170,7 +175,7 @@ def _table(rows, where: str) -> tuple[Platform, ...]:
         if row["side"] not in SIDES:
             raise PlatformDataError(f"{entry}: side = {row['side']!r} must be one of {', '.join(SIDES)}")
         height = row.get("height_mm")
-        if height is not None and height not in M_PLATFORM_MM.values():
+        if height is not None and (type(height) is not int or height not in M_PLATFORM_MM.values()):
             raise PlatformDataError(f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
                                     f"({', '.join(map(str, M_PLATFORM_MM.values()))})")
         platforms.append(Platform(start, start + length, row["side"], height))
