@@ -7,7 +7,7 @@ The ATP enables a side's doors only when (seed 004 §2.1)
    ``[front_min, front_max]`` lies within the stopping tolerance;
 2. a platform is on that side: one platform of the table, on that side, covers every
    door of the train wherever in the interval the front is;
-3. zero speed is detected (the measured speed is 0);
+3. zero speed is detected (the standstill signal, and the measured speed is 0);
 4. the train is immobilised (the holding brake is applied);
 
 and the ATO or driver asks for that side. The doors of a train lie between
@@ -49,6 +49,8 @@ class DoorConditions(Generic[N, B]):
     """The max safe front."""
     speed_mps: N
     """The measured speed."""
+    standstill: B
+    """Zero speed detected (:mod:`atcs.model.position`: no tachometer distance this cycle)."""
     immobilised: B
     """The train is immobilised (holding brake applied)."""
     stopping_point_m: N
@@ -105,7 +107,7 @@ def platform_covers_doors(o: Ops, p: DoorParams, i: DoorConditions, side: tuple)
 
 def door_enable(o: Ops, p: DoorParams, i: DoorConditions, doors_closed_locked) -> DoorEnableOutputs:
     """The ATP's door enable per side, and the door interlock (seed 004 §2.1)."""
-    held = o.and_(i.speed_mps <= o.const(0), i.immobilised, stopped_at_stopping_point(o, i))
+    held = o.and_(i.standstill, i.speed_mps <= o.const(0), i.immobilised, stopped_at_stopping_point(o, i))
     return DoorEnableOutputs(
         enable_left=o.and_(i.request_left, held, platform_covers_doors(o, p, i, i.platform_left)),
         enable_right=o.and_(i.request_right, held, platform_covers_doors(o, p, i, i.platform_right)),

@@ -42,6 +42,7 @@ def safe_to_open(o, p, i, side: str):
     on_side = getattr(i, f"platform_{side}")
     door_at_m = i.probe_front_m - i.probe_door_m
     return o.and_(
+        i.standstill,
         o.eq(i.speed_mps, o.const(0)),
         i.immobilised,
         i.position_valid,

@@ -36,6 +36,8 @@ MUTANTS = {
          "i.platform_start_m[j] <= i.front_max_m - p.last_door_m"),
         # zero-speed detection with a threshold
         (doors.door_enable, "i.speed_mps <= o.const(0)", "i.speed_mps <= o.const(1)"),
+        # the standstill signal not checked
+        (doors.door_enable, "held = o.and_(i.standstill, ", "held = o.and_("),
         # immobilisation not checked
         (doors.door_enable, "i.immobilised, stopped_at_stopping_point", "stopped_at_stopping_point"),
     ],
@@ -110,6 +112,7 @@ def loop_inputs(table=PLATFORMS, *, front=STOP_M, spread=Fraction(1, 10), speed=
                 obstructed=False, traction=False):
     return DoorLoopInputs(
         position_valid=True, front_min_m=front - spread, front_max_m=front + spread, speed_mps=Fraction(speed),
+        standstill=speed == 0,
         immobilised=immobilised, stopping_point_m=STOP_M, stop_tolerance_m=TOLERANCE_M,
         **platform_inputs(table, doors.PROOF_PLATFORMS), request_left=request_left, request_right=request_right,
         probe_front_m=front - spread, probe_door_m=TRAIN.last_door_m, open_left=open_left, open_right=open_right,
@@ -190,7 +193,8 @@ def platform_tables(draw):
     return rows
 
 
-FAULTS = (None, "speed", "immobilised", "position", "tolerance", "platform_start", "platform_end", "side", "random")
+FAULTS = (None, "speed", "standstill", "immobilised", "position", "tolerance", "platform_start", "platform_end", "side",
+          "random")
 
 
 @st.composite
@@ -219,7 +223,7 @@ def conditions(draw):
         table = [Platform(start, end, {"left": "right", "right": "left"}[side] if fault == "side" else side)]
     fields = dict(
         position_valid=fault != "position", front_min_m=front_min, front_max_m=front_max,
-        speed_mps=Fraction(1, 100) if fault == "speed" else Fraction(0),
+        speed_mps=Fraction(1, 100) if fault == "speed" else Fraction(0), standstill=fault != "standstill",
         immobilised=fault != "immobilised", stopping_point_m=stop, stop_tolerance_m=tolerance,
         **platform_inputs(table, 3), request_left=side == "left", request_right=side == "right",
         probe_front_m=draw(st.sampled_from((front_min, front_max, (front_min + front_max) / 2))),
@@ -310,7 +314,8 @@ class TestWithPositionDetermination:
         position = position_at_stop(tacho_error)
         inputs = DoorEnableInputs(
             position_valid=position.position_valid, front_min_m=position.front_min_m,
-            front_max_m=position.front_max_m, speed_mps=position.speed_est_mps, immobilised=True,
+            front_max_m=position.front_max_m, speed_mps=position.speed_est_mps,
+            standstill=position.standstill, immobilised=True,
             stopping_point_m=STOP_M, stop_tolerance_m=Fraction(3, 2), **platform_inputs(PLATFORMS, 3),
             request_left=False, request_right=True, probe_front_m=position.front_min_m,
             probe_door_m=TRAIN.last_door_m, doors_closed_locked=True,
