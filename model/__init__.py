@@ -8,6 +8,7 @@ from atcs.model.authority import AUTHORITY
 from atcs.model.closed_loop import CLOSED_LOOP
 from atcs.model.curves import CURVES
 from atcs.model.deceleration import DECELERATION
+from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT
@@ -20,6 +21,6 @@ from atcs.model.supervision import SUPERVISION
 
 NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
                                                          CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
-                                                         AUTHORITY, TWO_TRAINS)}
+                                                         AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP)}
 
 __all__ = ["NODES", "Node"]

@@ -12,9 +12,10 @@ EB = PROPERTIES["supervision.eb_above_ebi"]
 
 
 class TestRegistry:
-    def test_names_are_module_first(self):
+    def test_names_are_module_first_and_nodes_registered(self):
         for name, prop in PROPERTIES.items():
-            assert name == prop.name and prop.module in NODES, name
+            assert name == prop.name and prop.module.isidentifier(), name
+            assert NODES.get(prop.node.name) is prop.node, f"{name}: node {prop.node.name!r} is not in model.NODES"
 
     def test_every_property_is_documented(self):
         for prop in PROPERTIES.values():
