@@ -133,6 +133,7 @@ class TestEveryNodeUnderEveryBackend:
         assert_float_close(float_nxt, exact_nxt, "state")
         assert_float_close(float_out, exact_out, "outputs")
 
+    @settings(max_examples=40)  # each example steps up to 16 trains twice: 640 runs per node
     @given(data=st.data())
     def test_numpy_batch_equals_scalar_runs(self, node, data):
         """One call on arrays (an array per scalar field, a tuple of arrays per array field) steps a batch."""
