@@ -1,6 +1,7 @@
 """The `atcs` command line: prove, replay and bench; exit codes, reports, and bad input."""
 
 import json
+import os
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -58,6 +59,9 @@ class TestProve:
         names = [p["name"] for p in json.loads(report.read_text())["properties"]]
         assert names == ["supervision.eb_above_ebi", "supervision.eb_latched_until_standstill",
                          "supervision.eb_without_position"]
+        umask = os.umask(0)
+        os.umask(umask)
+        assert report.stat().st_mode & 0o777 == 0o666 & ~umask  # an ordinary file, not a private temporary
 
     def test_one_job_gives_the_same_verdicts(self, tmp_path, proof_suite_run):
         """One process (lemma results shared in it) against the session's two workers, on the properties with
