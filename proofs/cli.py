@@ -1,10 +1,11 @@
-"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``bench``.
+"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``sim``, ``bench``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
 (an ``error`` verdict is never a pass). ``replay``: 0 the violation is
 reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
 ``curves``: 0, or 2 for bad train or track data. ``platforms``: 0, or 2 for bad platform data.
+``sim``: 0 the run ended with no violation, 1 a property or safety check failed, 2 a bad scenario.
 ``bench``: 0, or 2 for an unknown benchmark name.
 """
 
@@ -96,6 +97,10 @@ def build_parser() -> argparse.ArgumentParser:
     t.add_argument("--encode", choices=("69", "44"), default=None,
                    help="also print the platforms as a packet of this kind (hex, Q_SCALE 1 m)")
 
+    m = sub.add_parser("sim", help="run a scenario in closed loop, checking the properties every cycle")
+    m.add_argument("scenario", metavar="SCENARIO", help="a scenario file, or the name of a shipped one (sim/scenarios)")
+    m.add_argument("--trace", metavar="FILE", help="write every cycle of every train here (.csv or .jsonl)")
+
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
     return parser
@@ -107,7 +112,7 @@ def main(argv: list[str] | None = None) -> int:
         out = Console(width=160)
     try:
         args = build_parser().parse_args(argv)
-        command = {"prove": _prove, "replay": _replay, "curves": _curves, "platforms": _platforms,
+        command = {"prove": _prove, "replay": _replay, "curves": _curves, "platforms": _platforms, "sim": _sim,
                    "bench": _bench}[args.command]
         return command(args, out, err)
     except UsageError as exc:
@@ -256,6 +261,65 @@ def _platforms(args, out: Console, err: Console) -> int:
             out.print(f"packet {args.encode}: {encode_platform_packet(packet).hex()}")
         except (ValueError, PacketError) as exc:
             raise UsageError(f"platforms: --encode {args.encode}: {exc}") from None
+    return EXIT_OK
+
+
+# --- sim ---------------------------------------------------------------------------------
+
+
+def _sim(args, out: Console, err: Console) -> int:
+    from atcs.proofs.report import OutputPathError, check_writable_file, write_atomic
+    from atcs.sim.monitor import PropertyViolation
+    from atcs.sim.scenario import ScenarioError, load_scenario, resolve
+    from atcs.sim.simulator import SafetyViolation, Simulation, trace_text
+
+    try:
+        scenario = load_scenario(resolve(args.scenario))
+    except ScenarioError as exc:
+        raise UsageError(f"sim: {exc}") from None
+    if args.trace is not None:
+        if Path(args.trace).suffix not in (".csv", ".jsonl"):
+            raise UsageError(f"sim: --trace {args.trace}: the file must end in .csv or .jsonl")
+        try:
+            check_writable_file("--trace", args.trace)
+        except OutputPathError as exc:
+            raise UsageError(f"sim: {exc}") from None
+    rows: list[dict] = []
+    cycles = int(scenario.duration_s / scenario.cycle_s)
+    out.print(f"{scenario.name} (seed {scenario.seed}): {scenario.description}")
+    failure = None
+    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=out, transient=True) as progress:
+        task = progress.add_task("cycles", total=cycles)
+
+        def record(sim):
+            if args.trace is not None:
+                rows.extend({"train": t.spec.name, **t.last} for t in sim.trains)
+            if sim.step_count % 50 == 0:
+                progress.update(task, completed=sim.step_count)
+
+        sim = Simulation(scenario, on_cycle=record)
+        try:
+            sim.run()
+        except (PropertyViolation, SafetyViolation) as exc:
+            failure = exc
+    table = Table(title=f"{scenario.name}: {sim.time_s:.1f} s simulated")
+    for column in ("train", "distance (m)", "running (s)", "max speed (km/h)", "EB", "SB", "min gap (m)",
+                   "front at end (m)"):
+        table.add_column(column, justify="left" if column == "train" else "right")
+    for t in sim.trains:
+        s = t.stats
+        table.add_row(t.spec.name, f"{s.distance_m:.1f}", f"{s.running_s:.1f}", f"{s.max_speed_kmh:.1f}",
+                      str(s.emergency_brakes), str(s.service_brakes),
+                      "-" if s.min_gap_m == float("inf") else f"{s.min_gap_m:.1f}", f"{t.front_m:.1f}")
+    out.print(table)
+    if args.trace is not None:
+        write_atomic(args.trace, trace_text(rows, Path(args.trace).suffix))
+        out.print(f"trace: {args.trace} ({len(rows)} rows)")
+    if failure is not None:
+        out.print(f"[bold red]violation:[/] {failure}")
+        return EXIT_FALSIFIED
+    out.print("[green]no violation[/]: every checked property held at every cycle")
     return EXIT_OK
 
 

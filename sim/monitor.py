@@ -32,6 +32,17 @@ def _all(value) -> bool:
     return bool(np.all(value))
 
 
+def check_step(node: Node, params, state, inputs, properties: tuple[Property, ...], step: int, ops=FLOAT):
+    """One step of ``node`` with ``properties`` checked on it (their assumptions taken at this step only):
+    returns (next state, outputs), or raises :class:`PropertyViolation`."""
+    nxt, out = node.step(ops, params, state, inputs)
+    for prop in properties:
+        if not _all(ops.implies(prop.assumed(ops, params, state, inputs),
+                                prop.holds(ops, params, state, inputs, out, nxt))):
+            raise PropertyViolation(prop, step, state, inputs, out)
+    return nxt, out
+
+
 @dataclass
 class Monitor:
     node: Node

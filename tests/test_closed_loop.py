@@ -113,7 +113,7 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
 # --- simulation: the same step function and predicates on concrete numbers ------------------------
 
 
-@settings(max_examples=6, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds: no shrinking
+@settings(max_examples=4, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds: no shrinking
 @given(eoa_m=st.integers(300, 1500), breakpoint_m=st.integers(1, 1999), noise=st.randoms(use_true_random=False))
 def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
     fixed = PRESETS["seed000"]

@@ -10,7 +10,7 @@ from fractions import Fraction
 from pathlib import Path
 
 import pytest
-from hypothesis import Phase, event, given, settings
+from hypothesis import Phase, event, example, given, settings
 from hypothesis import strategies as st
 
 from atcs.model import authority, separation
@@ -155,7 +155,9 @@ def _leader_motion(speed_mps, accel_mps2, dt):
     return v_next, (speed_mps + v_next) / 2 * dt
 
 
-@settings(max_examples=6, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds
+@settings(max_examples=2, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds
+@example(mode="bw", gap_m=250, leader_kmh=80, seed=1)  # each mode once, at the closest start
+@example(mode="rbd", gap_m=250, leader_kmh=80, seed=2)
 @given(mode=st.sampled_from(["bw", "rbd"]), gap_m=st.integers(250, 600), leader_kmh=st.integers(30, 80),
        seed=st.integers(0, 2**16))
 def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, seed):

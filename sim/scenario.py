@@ -1,0 +1,278 @@
+"""Simulation scenarios: TOML files with explicit units, validated with errors naming the file, field and value.
+
+A scenario is a line (length, tags, resources, speed limits, gradients, protection
+zones, platforms), the ATP and ATO settings, and the trains in order from the front
+(the first train leads). Units are in the field names: ``_m``, ``_s``, ``_kmh``,
+``_kmhps`` (km/h per second), ``_permille``. The shipped scenarios are in
+``sim/scenarios/``, named after their seed; :func:`shipped` lists them.
+"""
+
+from __future__ import annotations
+
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+
+from atcs.model.platforms import Platform, PlatformDataError, platform_data
+from atcs.model.profile import parse_number
+from atcs.model.train_data import TrainData, seed000_train, seed002_train
+
+SCENARIO_DIR = Path(__file__).parent / "scenarios"
+PRESETS = {"seed000": seed000_train, "seed002": seed002_train}
+FAULTS = ("ignores_service_brake",)
+"""Fault kinds a train may carry for a time window."""
+
+
+class ScenarioError(ValueError):
+    """A malformed scenario; the message names the file, the field and the value."""
+
+
+@dataclass(frozen=True)
+class Segment:
+    start_m: Fraction
+    value: Fraction
+
+
+@dataclass(frozen=True)
+class Zone:
+    """A protection zone set by the ATS: trains must stop short of ``start_m`` while it is active."""
+
+    start_m: Fraction
+    from_s: Fraction
+    until_s: Fraction | None
+
+
+@dataclass(frozen=True)
+class Fault:
+    kind: str
+    from_s: Fraction
+    until_s: Fraction | None
+
+
+@dataclass(frozen=True)
+class TrainSpec:
+    name: str
+    data: TrainData
+    front_m: Fraction
+    max_speed_kmh: Fraction
+    depart_s: Fraction
+    faults: tuple[Fault, ...] = ()
+    eb_release_after_stop_s: Fraction | None = None
+    """The driver's release input this long after an emergency stop (never, if None)."""
+
+
+@dataclass(frozen=True)
+class Scenario:
+    name: str
+    seed: str
+    description: str
+    source: str
+    duration_s: Fraction
+    cycle_s: Fraction
+    line_m: Fraction
+    tag_spacing_m: Fraction
+    resource_length_m: Fraction
+    speed_limits_kmh: tuple[Segment, ...]
+    gradients_permille: tuple[Segment, ...]
+    max_ma_m: Fraction
+    brick_wall: bool
+    safety_margin_m: Fraction
+    report_timeout_s: Fraction
+    tag_window_m: Fraction
+    tacho_error: Fraction
+    planning_decel_kmhps: Fraction
+    ato_margin_m: Fraction
+    trains: tuple[TrainSpec, ...]
+    zones: tuple[Zone, ...] = ()
+    platforms: tuple[Platform, ...] = field(default=())
+
+
+class _Reader:
+    """Typed access to one TOML table, every error naming the file and the dotted field."""
+
+    def __init__(self, source: str, table: Mapping, where: str, allowed: tuple[str, ...]):
+        self.source, self.table, self.where = source, table, where
+        if not isinstance(table, Mapping):
+            raise ScenarioError(f"{source}: {where or 'the file'} must be a table, got {table!r}")
+        unknown = sorted(set(table) - set(allowed))
+        if unknown:
+            raise ScenarioError(f"{source}: {self.name(unknown[0])}: unknown field (fields here: "
+                                f"{', '.join(allowed)})")
+
+    def name(self, key: str) -> str:
+        return f"{self.where}.{key}" if self.where else key
+
+    def fail(self, key: str, problem: str):
+        raise ScenarioError(f"{self.source}: {self.name(key)} = {self.table.get(key)!r} {problem}")
+
+    def number(self, key: str, default=None, *, minimum=None, positive=False) -> Fraction:
+        if key not in self.table:
+            if default is None:
+                raise ScenarioError(f"{self.source}: {self.name(key)} is missing")
+            return Fraction(default)
+        value = parse_number(f"{self.source}", self.name(key), self.table[key], ScenarioError)
+        if positive and value <= 0:
+            self.fail(key, "must be positive")
+        if minimum is not None and value < minimum:
+            self.fail(key, f"must be at least {minimum}")
+        return value
+
+    def optional_number(self, key: str, **limits) -> Fraction | None:
+        if key not in self.table:
+            return None
+        if isinstance(self.table[key], float) and math.isinf(self.table[key]):
+            return None
+        return self.number(key, **limits)
+
+    def text(self, key: str, default: str | None = None, choices: tuple[str, ...] | None = None) -> str:
+        value = self.table.get(key, default)
+        if value is None:
+            raise ScenarioError(f"{self.source}: {self.name(key)} is missing")
+        if not isinstance(value, str):
+            self.fail(key, "must be a string")
+        if choices is not None and value not in choices:
+            self.fail(key, f"must be one of {', '.join(choices)}")
+        return value
+
+    def rows(self, key: str) -> list:
+        value = self.table.get(key, [])
+        if not isinstance(value, list):
+            self.fail(key, "must be a list of tables")
+        return value
+
+
+def _segments(reader: _Reader, key: str, value_key: str, default: Fraction, line_m: Fraction, *,
+              positive: bool) -> tuple[Segment, ...]:
+    rows = reader.rows(key)
+    if not rows:
+        return (Segment(Fraction(0), default),)
+    segments = []
+    for j, row in enumerate(rows):
+        r = _Reader(reader.source, row, f"{reader.name(key)}[{j}]", ("start_m", value_key))
+        start = r.number("start_m", minimum=0)
+        value = r.number(value_key, positive=positive)
+        if j == 0 and start != 0:
+            r.fail("start_m", "must be 0 for the first segment")
+        if j > 0 and start <= segments[-1].start_m:
+            r.fail("start_m", "must be after the previous segment's start")
+        if start >= line_m:
+            r.fail("start_m", f"must be before the line's end ({line_m} m)")
+        segments.append(Segment(start, value))
+    return tuple(segments)
+
+
+def _window(r: _Reader) -> tuple[Fraction, Fraction | None]:
+    start = r.number("from_s", 0, minimum=0)
+    until = r.optional_number("until_s")
+    if until is not None and until <= start:
+        r.fail("until_s", f"must be after from_s ({start} s)")
+    return start, until
+
+
+def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | None) -> TrainSpec:
+    r = _Reader(source, row, f"trains[{j}]", ("name", "preset", "front_m", "max_speed_kmh", "depart_s", "faults",
+                                               "eb_release_after_stop_s"))
+    name = r.text("name", f"T{j + 1}")
+    data = PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
+    front = r.number("front_m", minimum=0)
+    if front - data.train_length_m < 0 or front >= line_m:
+        r.fail("front_m", f"must put the whole train on the line (its length is {data.train_length_m} m, the line "
+               f"{line_m} m)")
+    if previous is not None and front >= previous.front_m - previous.data.train_length_m:
+        r.fail("front_m", f"must be behind the rear of {previous.name} (trains are listed from the front)")
+    faults = []
+    for k, fault in enumerate(r.rows("faults")):
+        f = _Reader(source, fault, f"{r.name('faults')}[{k}]", ("kind", "from_s", "until_s"))
+        faults.append(Fault(f.text("kind", choices=FAULTS), *_window(f)))
+    return TrainSpec(
+        name=name, data=data, front_m=front, max_speed_kmh=r.number("max_speed_kmh", positive=True),
+        depart_s=r.number("depart_s", 0, minimum=0), faults=tuple(faults),
+        eb_release_after_stop_s=r.optional_number("eb_release_after_stop_s", minimum=0),
+    )
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and check a scenario file (:class:`ScenarioError` on anything malformed)."""
+    source = str(path)
+    try:
+        document = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise ScenarioError(f"{source}: cannot read: {exc.strerror}") from None
+    except UnicodeDecodeError:
+        raise ScenarioError(f"{source}: not UTF-8 text") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{source}: not valid TOML: {exc}") from None
+    top = _Reader(source, document, "", ("name", "seed", "description", "duration_s", "cycle_s", "line", "atp",
+                                         "ato", "trains", "zones", "platforms"))
+    for key in ("line", "atp", "ato"):
+        if key not in document:
+            raise ScenarioError(f"{source}: [{key}] is missing")
+    line = _Reader(source, document["line"], "line", ("length_m", "tag_spacing_m", "resource_length_m",
+                                                       "speed_limits", "gradients", "max_ma_m"))
+    line_m = line.number("length_m", positive=True)
+    atp = _Reader(source, document["atp"], "atp", ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m",
+                                                    "tacho_error"))
+    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m"))
+    tacho_error = atp.number("tacho_error", minimum=0)
+    if tacho_error >= 1:
+        atp.fail("tacho_error", "must be below 1")
+    rows = top.rows("trains")
+    if not rows:
+        raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
+    trains: list[TrainSpec] = []
+    for j, row in enumerate(rows):
+        trains.append(_train(source, row, j, line_m, trains[-1] if trains else None))
+    zones = []
+    for j, row in enumerate(top.rows("zones")):
+        z = _Reader(source, row, f"zones[{j}]", ("start_m", "from_s", "until_s"))
+        start = z.number("start_m", minimum=0)
+        if start > line_m:
+            z.fail("start_m", f"must be on the line ({line_m} m)")
+        zones.append(Zone(start, *_window(z)))
+    try:
+        platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
+    except PlatformDataError as exc:
+        raise ScenarioError(str(exc)) from None
+    scenario = Scenario(
+        name=top.text("name"), seed=top.text("seed"), description=top.text("description", ""), source=source,
+        duration_s=top.number("duration_s", positive=True), cycle_s=top.number("cycle_s", "0.1", positive=True),
+        line_m=line_m, tag_spacing_m=line.number("tag_spacing_m", positive=True),
+        resource_length_m=line.number("resource_length_m", positive=True),
+        speed_limits_kmh=_segments(line, "speed_limits", "kmh", Fraction(80), line_m, positive=True),
+        gradients_permille=_segments(line, "gradients", "permille", Fraction(0), line_m, positive=False),
+        max_ma_m=line.number("max_ma_m", positive=True),
+        brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
+        safety_margin_m=atp.number("safety_margin_m", minimum=0),
+        report_timeout_s=atp.number("report_timeout_s", positive=True),
+        tag_window_m=atp.number("tag_window_m", minimum=0), tacho_error=tacho_error,
+        planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
+        ato_margin_m=ato.number("margin_m", minimum=0), trains=tuple(trains), zones=tuple(zones),
+        platforms=platforms,
+    )
+    if scenario.tag_spacing_m > line_m or scenario.resource_length_m > line_m:
+        raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
+    for j, train in enumerate(scenario.trains):
+        if train.front_m % scenario.tag_spacing_m:
+            raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be on a tag (a multiple of "
+                                f"line.tag_spacing_m = {scenario.tag_spacing_m}): a train powers up on a tag and "
+                                "reads it in its first cycle")
+    return scenario
+
+
+def shipped() -> dict[str, Path]:
+    """The scenarios shipped in ``sim/scenarios/``, by name (the file's stem)."""
+    return {path.stem: path for path in sorted(SCENARIO_DIR.glob("*.toml"))}
+
+
+def resolve(name_or_path: str) -> Path:
+    """A scenario file: a path, or the name of a shipped scenario."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists():
+        return path
+    known = shipped()
+    if name_or_path not in known:
+        raise ScenarioError(f"{name_or_path}: no such file, nor a shipped scenario ({', '.join(known)})")
+    return known[name_or_path]
