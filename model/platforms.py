@@ -20,13 +20,13 @@ that sent it, or from a scenario's table. Both forms are read by
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.bits import PacketError, hex_bytes
+from atcs.model.data_files import read_toml
 from atcs.model.platform_packets import (
     M_PLATFORM_MM,
     MAX_DISTANCE,
@@ -184,14 +184,7 @@ def _table(rows, where: str) -> tuple[Platform, ...]:
 
 def read_platform_data(path: str | Path) -> tuple[Platform, ...]:
     """The ``[platforms]`` section of a TOML file."""
-    try:
-        document = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise PlatformDataError(f"{path}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise PlatformDataError(f"{path}: not UTF-8 text") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise PlatformDataError(f"{path}: not valid TOML: {exc}") from None
+    document = read_toml(path, PlatformDataError, "the platform data")
     if "platforms" not in document:
         raise PlatformDataError(f"{path}: no [platforms] section")
     return platform_data(document["platforms"], str(path))

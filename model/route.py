@@ -24,12 +24,12 @@ naming the file, the resource, the field and the value.
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
+from atcs.model.data_files import read_toml
 from atcs.model.profile import parse_number
 
 KINDS = ("track", "switch")
@@ -120,14 +120,7 @@ def route(source: str, resources: Sequence[Mapping], line_end_m) -> Route:
 def read_route(path: str | Path) -> Route:
     """A route from a TOML file (see the module docstring)."""
     path = Path(path)
-    try:
-        doc = tomllib.loads(path.read_text())
-    except OSError as exc:
-        raise RouteError(f"{path}: cannot read the route: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise RouteError(f"{path}: the route is not UTF-8 text") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise RouteError(f"{path}: not valid TOML: {exc}") from None
+    doc = read_toml(path, RouteError, "the route")
     unknown = sorted(set(doc) - {"resource", "line_end_m"})
     if unknown:
         raise RouteError(f"{path}: unknown key {unknown[0]!r} (keys: line_end_m, [[resource]])")

@@ -10,12 +10,12 @@ zones, platforms), the ATP and ATO settings, and the trains in order from the fr
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
+from atcs.model.data_files import read_toml
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
 from atcs.model.profile import parse_number
 from atcs.model.train_data import TrainData, seed000_train, seed002_train
@@ -197,14 +197,7 @@ def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | Non
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file (:class:`ScenarioError` on anything malformed)."""
     source = str(path)
-    try:
-        document = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ScenarioError(f"{source}: cannot read: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise ScenarioError(f"{source}: not UTF-8 text") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: not valid TOML: {exc}") from None
+    document = read_toml(path, ScenarioError, "the scenario")
     top = _Reader(source, document, "", ("name", "seed", "description", "duration_s", "cycle_s", "line", "atp",
                                          "ato", "trains", "zones", "platforms"))
     for key in ("line", "atp", "ato"):
