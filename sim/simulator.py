@@ -5,24 +5,25 @@ Each cycle, trains from the front:
 
 1. position (:func:`~atcs.model.position.position_step`): the tags the front passed in the
    last cycle and the tachometer's distance;
-2. movement authority (:data:`~atcs.model.authority.AUTHORITY`, run through a
-   :class:`~atcs.sim.monitor.Monitor` that checks every authority property each cycle): the
-   resources held, the preceding train's last T2T report (its min safe rear and min
-   speed, sent the cycle before), the active protection zones;
+2. movement authority (:data:`~atcs.model.authority.AUTHORITY` on exact numbers, every
+   authority property checked each cycle by :func:`~atcs.sim.monitor.check_step`, on the part
+   of the route the train needs): the resources held, the preceding train's last T2T report
+   (its min safe rear and min speed, sent the cycle before), the active protection zones;
 3. speed and distance supervision against the line's MRSP (the PSL of
    :func:`~atcs.model.psl.permanent_speed_limit`) and the EoA
    (:func:`~atcs.model.dynamic_profile.supervise_position`,
    :func:`~atcs.model.supervision.supervise`);
-4. the ATO (:func:`~atcs.model.ato.ato_target_speed`, seed 003): traction below the target
-   speed, service braking above it, at the deceleration that reaches the target;
+4. the ATO (:func:`~atcs.model.ato.ato_target_speed`, seed 003; seed 000: it follows the
+   permitted curve): traction below the target speed while short of the ATP's indication
+   point, full service braking past it, braking to the target above the target speed;
 5. the plant: the train's nominal traction and brakes (EB after the brake build-up time),
    each cycle checked against :func:`~atcs.model.plant.plant_admits`, the proofs' plant.
 
-Then the resource manager (:data:`~atcs.model.resources.RESOURCES`, also monitored) handles
-the requests and releases; every message is delivered in the next cycle. Any property
-violation stops the run with the step (:class:`~atcs.sim.monitor.PropertyViolation`); so
-does a collision or an overrun of a protection zone or the line's end
-(:class:`SafetyViolation`).
+Then the resource manager (:data:`~atcs.model.resources.RESOURCES`, its properties checked
+each cycle, on the resources with something to do) handles the requests and releases;
+every message is delivered in the next cycle. Any property violation stops the run with
+the step (:class:`~atcs.sim.monitor.PropertyViolation`); so does a collision or an overrun
+of a protection zone or the line's end (:class:`SafetyViolation`).
 """
 
 from __future__ import annotations
@@ -110,7 +111,6 @@ class TrainRun:
     last_distance_m: float = 0.0
     last_tag: int | None = None
     """The tag the front passed in the last cycle (read in this one)."""
-    held: tuple[bool, ...] = ()
     report: tuple[float, float] | None = None
     """(min safe rear, min speed) the train sent last cycle."""
     started: bool = False
@@ -196,7 +196,6 @@ class Simulation:
             mrsp=as_float(permanent_speed_limit(EXACT, pisl, ptsl, length)), gradient=as_float(compensated),
             train_data=_as_float(d), national=_as_float(subset026_national()),
             tags_m=_floats(self.tags.positions_m), tag_ids=_floats(self.tags.ids), last_tag=first_tag,
-            held=(False,) * len(starts),
         )
 
     # --- one cycle ---------------------------------------------------------------------------------------
