@@ -162,7 +162,7 @@ class Simulation:
         data = preset_data(d, subset026_national(), cycle_s=s.cycle_s)
         length = d.train_length_m
         pisl = Profile(tuple(g.start_m for g in s.speed_limits_kmh),
-                       tuple(g.value / Fraction(KMH_PER_MPS).limit_denominator() for g in s.speed_limits_kmh),
+                       tuple(g.value / Fraction(36, 10) for g in s.speed_limits_kmh),
                        s.line_m)
         ptsl = Profile((Fraction(0),), (spec.max_speed_kmh / Fraction(36, 10),), s.line_m)
         gradient = Profile(tuple(g.start_m for g in s.gradients_permille),
