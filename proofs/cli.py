@@ -100,6 +100,8 @@ def build_parser() -> argparse.ArgumentParser:
     m = sub.add_parser("sim", help="run a scenario in closed loop, checking the properties every cycle")
     m.add_argument("scenario", metavar="SCENARIO", help="a scenario file, or the name of a shipped one (sim/scenarios)")
     m.add_argument("--trace", metavar="FILE", help="write every cycle of every train here (.csv or .jsonl)")
+    m.add_argument("--plot", metavar="DIR", help="write a speed-distance plot per train and a time-distance "
+                   "diagram here (PNG)")
 
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
@@ -268,7 +270,7 @@ def _platforms(args, out: Console, err: Console) -> int:
 
 
 def _sim(args, out: Console, err: Console) -> int:
-    from atcs.proofs.report import OutputPathError, check_writable_file, write_atomic
+    from atcs.proofs.report import OutputPathError, check_writable_dir, check_writable_file, write_atomic
     from atcs.sim.monitor import PropertyViolation
     from atcs.sim.scenario import ScenarioError, load_scenario, resolve
     from atcs.sim.simulator import SafetyViolation, Simulation, trace_text
@@ -284,7 +286,13 @@ def _sim(args, out: Console, err: Console) -> int:
             check_writable_file("--trace", args.trace)
         except OutputPathError as exc:
             raise UsageError(f"sim: {exc}") from None
+    if args.plot is not None:
+        try:
+            check_writable_dir("--plot", args.plot)
+        except OutputPathError as exc:
+            raise UsageError(f"sim: {exc}") from None
     rows: list[dict] = []
+    records: list[list[dict]] = []
     cycles = int(scenario.duration_s / scenario.cycle_s)
     out.print(f"{scenario.name} (seed {scenario.seed}): {scenario.description}")
     failure = None
@@ -295,6 +303,8 @@ def _sim(args, out: Console, err: Console) -> int:
         def record(sim):
             if args.trace is not None:
                 rows.extend({"train": t.spec.name, **t.last} for t in sim.trains)
+            if args.plot is not None:
+                records.append([dict(t.last) for t in sim.trains])
             if sim.step_count % 50 == 0:
                 progress.update(task, completed=sim.step_count)
 
@@ -316,6 +326,11 @@ def _sim(args, out: Console, err: Console) -> int:
     if args.trace is not None:
         write_atomic(args.trace, trace_text(rows, Path(args.trace).suffix))
         out.print(f"trace: {args.trace} ({len(rows)} rows)")
+    if args.plot is not None and records:
+        from atcs.sim.plots import run_plots
+
+        for path in run_plots(sim, records, Path(args.plot)):
+            out.print(f"plot: {path}")
     if failure is not None:
         out.print(f"[bold red]violation:[/] {failure}")
         return EXIT_FALSIFIED

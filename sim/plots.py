@@ -55,3 +55,65 @@ def _save_atomic(fig, path: Path) -> None:
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def run_plots(sim, records: list[list[dict]], directory: Path, *, sample_every_s: float = 2.0) -> list[Path]:
+    """A simulation's figures: per train, speed against distance with the MRSP and, sampled along the run, the
+    EBI, SBI and permitted speeds at its max safe front (seed 000 Fig. 15, seed 002 Fig. 9-10); and a
+    time-distance diagram of all trains with the protection zones. ``records`` holds each cycle's
+    ``train.last`` of every train (as ``atcs sim`` collects them)."""
+    from atcs.model.dynamic_profile import Horizon, curve_speeds_at
+
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    paths = []
+    every = max(1, round(sample_every_s / sim.dt))
+    for k, train in enumerate(sim.trains):
+        rows = [cycle[k] for cycle in records]
+        fig = Figure(figsize=(11, 5.5), layout="constrained")
+        ax = fig.subplots()
+        ax.plot([r["front_m"] for r in rows], [r["speed_kmh"] for r in rows], color="black", linewidth=1.5,
+                label="speed")
+        mrsp = train.mrsp
+        ax.step([*mrsp.starts_m, mrsp.end_m], [v * KMH for v in (*mrsp.values, mrsp.values[-1])], where="post",
+                color="grey", linewidth=1, label="MRSP")
+        samples = rows[::every]
+        speeds = [curve_speeds_at(train.train_data, train.national,
+                                  Horizon(train.mrsp, train.gradient, r["eoa_m"], 0.0), r["front_max_m"],
+                                  float(train.plant.max_acceleration_mps2), tolerance_mps=1e-3)
+                  for r in samples]
+        for name in ("ebi", "sbi", "permitted"):
+            label, colour, style = CURVE_STYLE[name]
+            ax.plot([r["front_max_m"] for r in samples], [getattr(s, f"{name}_mps") * KMH for s in speeds],
+                    color=colour, linestyle=style, linewidth=1, label=f"{label} at the max safe front")
+        braking = [r["front_m"] for r in rows if r["eb"]]
+        if braking:
+            ax.plot(braking, [0] * len(braking), "|", color=CURVE_STYLE["ebi"][1], label="EB commanded")
+        fronts = [r["front_m"] for r in rows]
+        ax.set(xlabel="front (m)", ylabel="speed (km/h)", title=f"{sim.scenario.name}: {train.spec.name}",
+               xlim=(min(fronts) - 50, max(fronts) + 100))
+        ax.set_ylim(bottom=0)
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="lower left", fontsize="small")
+        path = directory / f"{train.spec.name}_speed_distance.png"
+        _save_atomic(fig, path)
+        paths.append(path)
+    fig = Figure(figsize=(11, 5.5), layout="constrained")
+    ax = fig.subplots()
+    for k, train in enumerate(sim.trains):
+        rows = [cycle[k] for cycle in records]
+        times = [r["t_s"] for r in rows]
+        line, = ax.plot(times, [r["front_m"] for r in rows], label=f"{train.spec.name} front")
+        ax.plot(times, [r["front_m"] - float(train.spec.data.train_length_m) for r in rows], color=line.get_color(),
+                linestyle=":", label=f"{train.spec.name} rear")
+    for zone in sim.scenario.zones:
+        until = sim.time_s if zone.until_s is None else float(zone.until_s)
+        ax.hlines(float(zone.start_m), float(zone.from_s), until, color=CURVE_STYLE["ebi"][1], linewidth=2,
+                  label=f"protection zone ({float(zone.start_m):g} m)")
+    ax.set(xlabel="time (s)", ylabel="position (m)", title=f"{sim.scenario.name}: time-distance")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", fontsize="small")
+    path = directory / "time_distance.png"
+    _save_atomic(fig, path)
+    paths.append(path)
+    return paths

@@ -181,10 +181,19 @@ class TestCommandLine:
         rows = [json.loads(line) for line in trace.read_text().splitlines()]
         assert rows and rows[0]["train"] == "T1"
 
+    def test_plots(self, tmp_path, capsys):
+        out = tmp_path / "plots"
+        assert main(["sim", "seed000_protection_zone", "--plot", str(out)]) == 0
+        files = sorted(p.name for p in out.iterdir())
+        assert files == ["T1_speed_distance.png", "time_distance.png"]
+        assert all((out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for f in files)
+        assert f"plot: {out / 'time_distance.png'}" in capsys.readouterr().out
+
     @pytest.mark.parametrize(("argv", "message"), [
         (["sim", "seed000_nosuch"], "nor a shipped scenario"),
         (["sim", "seed000_normal", "--trace", "t.txt"], "must end in .csv or .jsonl"),
         (["sim", "seed000_normal", "--trace", "/nonexistent/t.csv"], "does not exist"),
+        (["sim", "seed000_normal", "--plot", "/dev/null"], "exists and is not a directory"),
     ])
     def test_bad_input_is_one_line_and_exit_2(self, argv, message, capsys):
         assert main(argv) == 2
