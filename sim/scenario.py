@@ -44,12 +44,17 @@ class Zone:
     from_s: Fraction
     until_s: Fraction | None
 
+    def active_at(self, t_s) -> bool:
+        return self.from_s <= t_s and (self.until_s is None or t_s < self.until_s)
+
 
 @dataclass(frozen=True)
 class Fault:
     kind: str
     from_s: Fraction
     until_s: Fraction | None
+
+    active_at = Zone.active_at
 
 
 @dataclass(frozen=True)

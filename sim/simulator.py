@@ -46,7 +46,7 @@ from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.plant import PlantParams, PlantState, gradient_braking_mps2, plant_admits
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
-from atcs.model.profile import Profile, value_at
+from atcs.model.profile import KMH_PER_MPS, Profile, value_at
 from atcs.model.psl import extend_by_train_length, permanent_speed_limit
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
 from atcs.model.restrictions import as_float
@@ -57,7 +57,7 @@ from atcs.properties.closed_loop import preset_data
 from atcs.sim.monitor import Monitor, check_step
 from atcs.sim.scenario import Scenario, TrainSpec
 
-KMH_PER_MPS = 3.6
+KMH = float(KMH_PER_MPS)
 ATO_LOOKAHEAD_S = 2.0
 """The ATO does not accelerate within this many seconds (at its speed) of the indication point."""
 FLOAT_MARGIN = 1e-9
@@ -150,7 +150,7 @@ class Simulation:
         self.resources = ResourceState(
             owner=zero * resources, holding=zero * (resources * len(self.trains)),
             up=zero * (resources * len(self.trains)), down=zero * (resources * len(self.trains)))
-        self.held = [tuple([False] * resources) for _ in self.trains]
+        self.held = [[False] * resources for _ in self.trains]
 
     @property
     def time_s(self) -> float:
@@ -162,9 +162,9 @@ class Simulation:
         data = preset_data(d, subset026_national(), cycle_s=s.cycle_s)
         length = d.train_length_m
         pisl = Profile(tuple(g.start_m for g in s.speed_limits_kmh),
-                       tuple(g.value / Fraction(36, 10) for g in s.speed_limits_kmh),
+                       tuple(g.value / KMH_PER_MPS for g in s.speed_limits_kmh),
                        s.line_m)
-        ptsl = Profile((Fraction(0),), (spec.max_speed_kmh / Fraction(36, 10),), s.line_m)
+        ptsl = Profile((Fraction(0),), (spec.max_speed_kmh / KMH_PER_MPS,), s.line_m)
         gradient = Profile(tuple(g.start_m for g in s.gradients_permille),
                            tuple(g.value for g in s.gradients_permille), s.line_m)
         compensated = extend_by_train_length(EXACT, gradient, length)
@@ -237,8 +237,7 @@ class Simulation:
             owner[r] = nxt.owner[q]
         for q, j in enumerate(slots):
             holding[j], up[j], down[j] = nxt.holding[q], nxt.up[q], nxt.down[q]
-            self.held[j // count] = (*self.held[j // count][:j % count], bool(out.held[q]),
-                                     *self.held[j // count][j % count + 1:])
+            self.held[j // count][j % count] = bool(out.held[q])
         self.resources = ResourceState(tuple(owner), tuple(holding), tuple(up), tuple(down))
 
     def _onboard(self, train: TrainRun, leader: TrainRun | None, held, t: float):
@@ -249,7 +248,7 @@ class Simulation:
         pos = train.position.step(PositionInputs(
             tag_read=tag is not None, tag_id=train.tag_ids[tag] if tag is not None else 0.0,
             tacho_m=train.last_distance_m))
-        zones = [float(z.start_m) for z in s.zones if z.from_s <= t and (z.until_s is None or t < z.until_s)]
+        zones = [float(z.start_m) for z in s.zones if z.active_at(t)]
         report = leader.report if leader is not None else None
         # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
         # float rounding of a stopping point would break them by an ulp)
@@ -258,7 +257,7 @@ class Simulation:
             name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS})
         n = hi - lo
         train.authority, auth = check_step(AUTHORITY, window, train.authority, AuthorityInputs(
-            front_max_m=Fraction(pos.front_max_m), rear_min_m=Fraction(pos.rear_min_m), held=held[lo:hi],
+            front_max_m=Fraction(pos.front_max_m), rear_min_m=Fraction(pos.rear_min_m), held=tuple(held[lo:hi]),
             switch_locked=(True,) * n, switch_reversed=(False,) * n, report_delivered=report is not None,
             report_rear_m=Fraction(report[0] if report else 0), report_speed_mps=Fraction(report[1] if report else 0),
             zone_active=bool(zones), zone_start_m=Fraction(min(zones) if zones else 0)),
@@ -288,9 +287,9 @@ class Simulation:
         ahead = limits_ahead(train.mrsp, pos.front_max_m)
         target = ato_target(
             o, front_m=pos.front_max_m, speed_mps=speed, line_limit_mps=ahead.line_limit_mps,
-            train_max_mps=float(spec.max_speed_kmh) / KMH_PER_MPS, next_limit_m=ahead.next_limit_m,
+            train_max_mps=float(spec.max_speed_kmh) / KMH, next_limit_m=ahead.next_limit_m,
             next_limit_mps=ahead.next_limit_mps, ma_end_m=eoa_m, ma_speed_mps=0.0,
-            planning_decel_mps2=float(s.planning_decel_kmhps) / KMH_PER_MPS, margin_m=float(s.ato_margin_m))
+            planning_decel_mps2=float(s.planning_decel_kmhps) / KMH, margin_m=float(s.ato_margin_m))
         service_max = float(data.service_decelerations_mps2[0])
         train.started = train.started or (departed and not commands.emergency_brake)
         lookahead_m = speed * ATO_LOOKAHEAD_S
@@ -304,8 +303,7 @@ class Simulation:
             distance = max(target.location_m - pos.front_max_m - float(s.ato_margin_m) / 2, 0.5)
             wanted = (speed * speed - target.speed_mps ** 2) / (2 * distance)
             ato_brake = min(service_max, max(wanted, 0.05))
-        ignores_sb = any(f.kind == "ignores_service_brake" and f.from_s <= t and (f.until_s is None or t < f.until_s)
-                         for f in spec.faults)
+        ignores_sb = any(f.kind == "ignores_service_brake" and f.active_at(t) for f in spec.faults)
         service = 0.0 if ignores_sb else (service_max if commands.service_brake else ato_brake)
         self._move(train, commands.emergency_brake, traction, service)
 
@@ -314,9 +312,9 @@ class Simulation:
         if not commands.emergency_brake:
             train.stopped_s = None
         train.last = {
-            "t_s": t, "front_m": train.front_m, "speed_kmh": train.speed_mps * KMH_PER_MPS,
+            "t_s": t, "front_m": train.front_m, "speed_kmh": train.speed_mps * KMH,
             "front_min_m": pos.front_min_m, "front_max_m": pos.front_max_m, "eoa_m": eoa_m,
-            "ebi_m": curves.ebi_m, "permitted_m": curves.permitted_m, "target_kmh": target.speed_mps * KMH_PER_MPS,
+            "ebi_m": curves.ebi_m, "permitted_m": curves.permitted_m, "target_kmh": target.speed_mps * KMH,
             "eb": bool(commands.emergency_brake), "sb": bool(commands.service_brake),
             "traction": bool(traction), "position_valid": bool(pos.position_valid),
         }
@@ -367,7 +365,7 @@ class Simulation:
         stats = train.stats
         stats.distance_m += distance
         stats.running_s += dt if distance > 0 else 0.0
-        stats.max_speed_kmh = max(stats.max_speed_kmh, v_next * KMH_PER_MPS)
+        stats.max_speed_kmh = max(stats.max_speed_kmh, v_next * KMH)
 
     def _check(self) -> None:
         for k, train in enumerate(self.trains):
@@ -379,8 +377,7 @@ class Simulation:
                     raise SafetyViolation(f"collision with {leader.spec.name}", train.spec.name, self.step_count,
                                           self.time_s)
             for zone in self.scenario.zones:
-                active = zone.from_s <= self.time_s and (zone.until_s is None or self.time_s < zone.until_s)
-                if active and train.front_m > float(zone.start_m):
+                if zone.active_at(self.time_s) and train.front_m > float(zone.start_m):
                     raise SafetyViolation(f"entered the protection zone at {zone.start_m} m", train.spec.name,
                                           self.step_count, self.time_s)
             if train.front_m > float(self.scenario.line_m):
