@@ -18,12 +18,32 @@ from pathlib import Path
 from atcs.model.data_files import read_toml
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
 from atcs.model.profile import parse_number
-from atcs.model.train_data import TrainData, seed000_train, seed002_train
+from atcs.model.train_data import (
+    NationalData,
+    TrainData,
+    seed000_train,
+    seed002_national,
+    seed002_train,
+    subset026_national,
+)
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
 PRESETS = {"seed000": seed000_train, "seed002": seed002_train}
-FAULTS = ("ignores_service_brake",)
-"""Fault kinds a train may carry for a time window."""
+NATIONAL = {"subset026": subset026_national, "seed002": seed002_national}
+FAULTS = {
+    "ignores_service_brake": "the train does not apply the ATP's service brake command",
+    "missed_tag": "the tag reader reads nothing",
+    "spurious_tag": "the tag reader reports tag id `tag_id` (default 999999, not in the table) every cycle",
+    "tacho_drift": "the tachometer reads `factor` times the distance run (e.g. 1.03)",
+    "tacho_slide": "the tachometer reads `factor` times the distance run while braking (e.g. 0.5: a slide)",
+    "t2t_loss": "the train's T2T reports are lost",
+    "t2t_delay": "the train's T2T reports arrive `delay_s` late",
+    "stuck_door": "an obstacle holds the doors open",
+}
+"""Fault kinds a train may carry for a time window, and what each does."""
+FAULT_FIELDS = {"spurious_tag": {"tag_id": 999999}, "tacho_drift": {"factor": None},
+                "tacho_slide": {"factor": None}, "t2t_delay": {"delay_s": None}}
+"""Each fault's own fields, with their defaults (None: required)."""
 
 
 class ScenarioError(ValueError):
@@ -53,8 +73,43 @@ class Fault:
     kind: str
     from_s: Fraction
     until_s: Fraction | None
+    value: Fraction | None = None
+    """The fault's own field (``tag_id``, ``factor`` or ``delay_s``, :data:`FAULT_FIELDS`), if it has one."""
 
     active_at = Zone.active_at
+
+
+@dataclass(frozen=True)
+class Window:
+    """A time window: a resource-manager outage."""
+
+    from_s: Fraction
+    until_s: Fraction | None
+
+    active_at = Zone.active_at
+
+
+@dataclass(frozen=True)
+class TimedRestriction:
+    """A temporary speed restriction (TISL) the ATS sets on ``[start_m, end_m)`` for a time window."""
+
+    start_m: Fraction
+    end_m: Fraction
+    kmh: Fraction
+    from_s: Fraction
+    until_s: Fraction | None
+
+    active_at = Zone.active_at
+
+
+@dataclass(frozen=True)
+class Station:
+    """A station stop: the ATO stops the front at ``stop_m``, opens the doors on the platform's side, waits
+    ``dwell_s`` from the doors opening, closes them and departs once they are closed and locked."""
+
+    name: str
+    stop_m: Fraction
+    dwell_s: Fraction
 
 
 @dataclass(frozen=True)
@@ -67,6 +122,14 @@ class TrainSpec:
     faults: tuple[Fault, ...] = ()
     eb_release_after_stop_s: Fraction | None = None
     """The driver's release input this long after an emergency stop (never, if None)."""
+    first_door_m: Fraction = Fraction(10)
+    """The foremost door's distance behind the front."""
+    last_door_m: Fraction | None = None
+    """The rearmost door's distance behind the front (default: 10 m short of the train's length)."""
+
+    def fault(self, kind: str, t_s) -> Fault | None:
+        """The fault of this kind active at ``t_s``, if any."""
+        return next((f for f in self.faults if f.kind == kind and f.active_at(t_s)), None)
 
 
 @dataclass(frozen=True)
@@ -93,6 +156,14 @@ class Scenario:
     trains: tuple[TrainSpec, ...]
     zones: tuple[Zone, ...] = ()
     platforms: tuple[Platform, ...] = field(default=())
+    national: NationalData = field(default_factory=subset026_national)
+    ato_speed_margin_kmh: Fraction = Fraction(0)
+    """The ATO aims this far under the line's limits (seed 002 §4.2: 25 km/h under a 30 km/h limit)."""
+    restrictions: tuple[TimedRestriction, ...] = ()
+    stations: tuple[Station, ...] = ()
+    stop_tolerance_m: Fraction = Fraction(1)
+    """How far the safe front interval may lie from a station's stopping point for the doors (seed 004 §2.1)."""
+    manager_outages: tuple[Window, ...] = ()
 
 
 class _Reader:
@@ -179,7 +250,7 @@ def _window(r: _Reader) -> tuple[Fraction, Fraction | None]:
 
 def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | None) -> TrainSpec:
     r = _Reader(source, row, f"trains[{j}]", ("name", "preset", "front_m", "max_speed_kmh", "depart_s", "faults",
-                                               "eb_release_after_stop_s"))
+                                               "eb_release_after_stop_s", "first_door_m", "last_door_m"))
     name = r.text("name", f"T{j + 1}")
     data = PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
     front = r.number("front_m", minimum=0)
@@ -190,12 +261,25 @@ def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | Non
         r.fail("front_m", f"must be behind the rear of {previous.name} (trains are listed from the front)")
     faults = []
     for k, fault in enumerate(r.rows("faults")):
-        f = _Reader(source, fault, f"{r.name('faults')}[{k}]", ("kind", "from_s", "until_s"))
-        faults.append(Fault(f.text("kind", choices=FAULTS), *_window(f)))
+        where = f"{r.name('faults')}[{k}]"
+        kind = _Reader(source, fault, where, tuple(fault) if isinstance(fault, Mapping) else ()).text(
+            "kind", choices=tuple(FAULTS))
+        own = FAULT_FIELDS.get(kind, {})
+        f = _Reader(source, fault, where, ("kind", "from_s", "until_s", *own))
+        value = None
+        for key, default in own.items():
+            value = f.number(key, default, positive=True)
+        faults.append(Fault(kind, *_window(f), value))
+    first_door = r.number("first_door_m", 10, minimum=0)
+    last_door = r.number("last_door_m", data.train_length_m - 10, minimum=0)
+    if not first_door <= last_door <= data.train_length_m:
+        r.fail("last_door_m", f"must lie from first_door_m ({first_door} m) to the train's length "
+               f"({data.train_length_m} m)")
     return TrainSpec(
         name=name, data=data, front_m=front, max_speed_kmh=r.number("max_speed_kmh", positive=True),
         depart_s=r.number("depart_s", 0, minimum=0), faults=tuple(faults),
         eb_release_after_stop_s=r.optional_number("eb_release_after_stop_s", minimum=0),
+        first_door_m=first_door, last_door_m=last_door,
     )
 
 
@@ -204,7 +288,8 @@ def load_scenario(path: str | Path) -> Scenario:
     source = str(path)
     document = read_toml(path, ScenarioError, "the scenario")
     top = _Reader(source, document, "", ("name", "seed", "description", "duration_s", "cycle_s", "line", "atp",
-                                         "ato", "trains", "zones", "platforms"))
+                                         "ato", "trains", "zones", "platforms", "restrictions", "stations",
+                                         "manager_outages"))
     for key in ("line", "atp", "ato"):
         if key not in document:
             raise ScenarioError(f"{source}: [{key}] is missing")
@@ -212,8 +297,8 @@ def load_scenario(path: str | Path) -> Scenario:
                                                        "speed_limits", "gradients", "max_ma_m"))
     line_m = line.number("length_m", positive=True)
     atp = _Reader(source, document["atp"], "atp", ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m",
-                                                    "tacho_error"))
-    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m"))
+                                                    "tacho_error", "national", "stop_tolerance_m"))
+    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh"))
     tacho_error = atp.number("tacho_error", minimum=0)
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
@@ -234,6 +319,23 @@ def load_scenario(path: str | Path) -> Scenario:
         platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
     except PlatformDataError as exc:
         raise ScenarioError(str(exc)) from None
+    restrictions = []
+    for j, row in enumerate(top.rows("restrictions")):
+        x = _Reader(source, row, f"restrictions[{j}]", ("start_m", "end_m", "kmh", "from_s", "until_s"))
+        start, end = x.number("start_m", minimum=0), x.number("end_m")
+        if not start < end <= line_m:
+            x.fail("end_m", f"must lie after start_m ({start} m) and on the line ({line_m} m)")
+        restrictions.append(TimedRestriction(start, end, x.number("kmh", positive=True), *_window(x)))
+    stations = []
+    for j, row in enumerate(top.rows("stations")):
+        x = _Reader(source, row, f"stations[{j}]", ("name", "stop_m", "dwell_s"))
+        stop = x.number("stop_m", positive=True)
+        if stop > line_m or (stations and stop <= stations[-1].stop_m):
+            x.fail("stop_m", f"must be on the line ({line_m} m) and after the previous station's stop")
+        stations.append(Station(x.text("name", f"S{j + 1}"), stop, x.number("dwell_s", minimum=0)))
+    outages = []
+    for j, row in enumerate(top.rows("manager_outages")):
+        outages.append(Window(*_window(_Reader(source, row, f"manager_outages[{j}]", ("from_s", "until_s")))))
     scenario = Scenario(
         name=top.text("name"), seed=top.text("seed"), description=top.text("description", ""), source=source,
         duration_s=top.number("duration_s", positive=True), cycle_s=top.number("cycle_s", "0.1", positive=True),
@@ -248,7 +350,10 @@ def load_scenario(path: str | Path) -> Scenario:
         tag_window_m=atp.number("tag_window_m", minimum=0), tacho_error=tacho_error,
         planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
         ato_margin_m=ato.number("margin_m", minimum=0), trains=tuple(trains), zones=tuple(zones),
-        platforms=platforms,
+        platforms=platforms, national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
+        ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0), restrictions=tuple(restrictions),
+        stations=tuple(stations), stop_tolerance_m=atp.number("stop_tolerance_m", 1, positive=True),
+        manager_outages=tuple(outages),
     )
     if scenario.tag_spacing_m > line_m or scenario.resource_length_m > line_m:
         raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
@@ -257,6 +362,13 @@ def load_scenario(path: str | Path) -> Scenario:
             raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be on a tag (a multiple of "
                                 f"line.tag_spacing_m = {scenario.tag_spacing_m}): a train powers up on a tag and "
                                 "reads it in its first cycle")
+    for j, station in enumerate(scenario.stations):
+        for k, train in enumerate(scenario.trains):
+            tolerance = scenario.stop_tolerance_m  # the doors wherever the front is within it
+            doors = (station.stop_m - tolerance - train.last_door_m, station.stop_m + tolerance - train.first_door_m)
+            if not any(p.start_m <= doors[0] and doors[1] <= p.end_m for p in platforms):
+                raise ScenarioError(f"{source}: stations[{j}].stop_m = {station.stop_m}: no platform of [platforms] "
+                                    f"spans trains[{k}]'s doors there ({doors[0]} m to {doors[1]} m)")
     return scenario
 
 

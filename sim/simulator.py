@@ -40,18 +40,20 @@ from fractions import Fraction
 from atcs.model.ato import ato_target_speed as ato_target
 from atcs.model.ato import limits_ahead
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
+from atcs.model.doors import DOOR_LOOP, DcuState, DoorLoopInputs, DoorParams
 from atcs.model.dynamic_profile import Horizon, supervise_position
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.plant import PlantParams, PlantState, gradient_braking_mps2, plant_admits
+from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
 from atcs.model.profile import KMH_PER_MPS, Profile, value_at
-from atcs.model.psl import extend_by_train_length, permanent_speed_limit
+from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
-from atcs.model.restrictions import as_float
+from atcs.model.restrictions import SpeedRestrictions, as_float
 from atcs.model.supervision import SupervisionParams, SupervisionState, supervise
-from atcs.model.train_data import NationalData, TrainData, subset026_national
+from atcs.model.train_data import NationalData, TrainData
 from atcs.properties import select
 from atcs.properties.closed_loop import preset_data
 from atcs.sim.monitor import Monitor, check_step
@@ -60,11 +62,15 @@ from atcs.sim.scenario import Scenario, TrainSpec
 KMH = float(KMH_PER_MPS)
 ATO_LOOKAHEAD_S = 2.0
 """The ATO does not accelerate within this many seconds (at its speed) of the indication point."""
+STATION_CREEP_M = 0.5
+"""The ATO starts braking for a station stop this far before its braking distance (and, stopped short, creeps up
+to the stopping point from farther than this)."""
 FLOAT_MARGIN = 1e-9
 """Traction runs this fraction under the plant's bound, so that IEEE rounding never takes a motion past it."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
 AUTHORITY_PROPERTIES = tuple(p for p in (*select("authority.*"), *select("resources.*")) if p.node is AUTHORITY)
 RESOURCE_PROPERTIES = tuple(p for p in select("resources.*") if p.node is RESOURCES)
+DOOR_PROPERTIES = tuple(p for p in select("doors.*") if p.node is DOOR_LOOP)
 
 
 class SafetyViolation(AssertionError):
@@ -101,7 +107,10 @@ class TrainRun:
     front_m: float
     speed_mps: float
     brake_cycles: float
+    restrictions: SpeedRestrictions
+    """The train's MRSP on exact numbers, with the ATS's temporary restrictions merged in as they come and go."""
     mrsp: Profile
+    """Float, from :attr:`restrictions`."""
     gradient: Profile
     train_data: TrainData
     """Float, for the curves."""
@@ -109,10 +118,23 @@ class TrainRun:
     tags_m: tuple[float, ...]
     tag_ids: tuple[float, ...]
     last_distance_m: float = 0.0
+    last_tacho_m: float = 0.0
+    """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
+    door_params: DoorParams | None = None
+    dcu: DcuState = field(default_factory=lambda: DcuState(False, False))
+    next_station: int = 0
+    """The index of the next station stop (``len(stations)``: none left)."""
+    doors_opened_s: float | None = None
+    """When the doors opened at the current station stop."""
+    dwell_done: bool = False
+    """The doors have been commanded closed at the current stop."""
+    station_stops: int = 0
+    outbox: list = field(default_factory=list)
+    """T2T reports sent and not yet delivered: (step delivered, report)."""
     last_tag: int | None = None
     """The tag the front passed in the last cycle (read in this one)."""
     report: tuple[float, float] | None = None
-    """(min safe rear, min speed) the train sent last cycle."""
+    """(min safe rear, min speed) of the train's report delivered this cycle (None: none delivered)."""
     started: bool = False
     """The driver has released the power-up emergency brake (at departure)."""
     stopped_s: float | None = None
@@ -151,6 +173,7 @@ class Simulation:
             owner=zero * resources, holding=zero * (resources * len(self.trains)),
             up=zero * (resources * len(self.trains)), down=zero * (resources * len(self.trains)))
         self.held = [[False] * resources for _ in self.trains]
+        self.platform_table = {k: _floats(v) for k, v in platform_inputs(scenario.platforms).items()}
 
     @property
     def time_s(self) -> float:
@@ -159,7 +182,7 @@ class Simulation:
     def _train(self, spec: TrainSpec) -> TrainRun:
         s, d = self.scenario, spec.data
         starts, ends = self.resource_starts
-        data = preset_data(d, subset026_national(), cycle_s=s.cycle_s)
+        data = preset_data(d, s.national, cycle_s=s.cycle_s)
         length = d.train_length_m
         pisl = Profile(tuple(g.start_m for g in s.speed_limits_kmh),
                        tuple(g.value / KMH_PER_MPS for g in s.speed_limits_kmh),
@@ -187,39 +210,72 @@ class Simulation:
             cycle_s=s.cycle_s,
         )
         first_tag = self.tags.positions_m.index(spec.front_m)  # powered up on a tag: read in the first cycle
+        restrictions = SpeedRestrictions(pisl, ptsl, length)
+        stations = [j for j, st in enumerate(s.stations) if st.stop_m > spec.front_m]
         return TrainRun(
             spec=spec, plant=_as_float(plant),
             position=Monitor(POSITION, _as_float(pos), PositionState(False, 0.0, 0.0, 0.0)),
             authority=AuthorityState(False, *(Fraction(0),) * 3), authority_params=authority,
             supervision=SupervisionState(eb_latched=True, sb_latched=False),
             front_m=float(spec.front_m), speed_mps=0.0, brake_cycles=float(plant.brake_build_up_cycles),
-            mrsp=as_float(permanent_speed_limit(EXACT, pisl, ptsl, length)), gradient=as_float(compensated),
-            train_data=_as_float(d), national=_as_float(subset026_national()),
+            restrictions=restrictions, mrsp=as_float(restrictions.mrsp()), gradient=as_float(compensated),
+            train_data=_as_float(d), national=_as_float(s.national),
             tags_m=_floats(self.tags.positions_m), tag_ids=_floats(self.tags.ids), last_tag=first_tag,
+            door_params=DoorParams(float(spec.first_door_m), float(spec.last_door_m)),
+            next_station=stations[0] if stations else len(s.stations),
         )
 
     # --- one cycle ---------------------------------------------------------------------------------------
 
     def step(self) -> None:
         t = self.time_s
+        self._restrictions(t)
         sends, reports = [], []
         for k, train in enumerate(self.trains):
             leader = self.trains[k - 1] if k else None
             train_sends, report = self._onboard(train, leader, self.held[k], t)
             sends.extend(train_sends)
             reports.append(report)
-        for train, report in zip(self.trains, reports, strict=True):  # delivered in the next cycle
-            train.report = report
-        self._manage(sends)
+        for train, report in zip(self.trains, reports, strict=True):
+            self._send_report(train, report, t)
+        outage = any(w.active_at(t) for w in self.scenario.manager_outages)
+        self._manage(sends, deliver=not outage)
         self.step_count += 1
         self._check()
         if self.on_cycle is not None:
             self.on_cycle(self)
 
-    def _manage(self, sends: list[bool]) -> None:
+    def _restrictions(self, t: float) -> None:
+        """The ATS's temporary restrictions: each train's MRSP is updated where one comes into force or ends
+        (seed 002 §3.2's incremental update, :class:`~atcs.model.restrictions.SpeedRestrictions`)."""
+        for j, r in enumerate(self.scenario.restrictions):
+            name, active = f"restriction {j}", r.active_at(t)
+            for train in self.trains:
+                applied = name in train.restrictions.active
+                if active and not applied:
+                    train.restrictions.apply(name, Restriction(r.start_m, r.end_m, r.kmh / KMH_PER_MPS))
+                elif applied and not active:
+                    train.restrictions.withdraw(name)
+                else:
+                    continue
+                train.mrsp = as_float(train.restrictions.mrsp())
+
+    def _send_report(self, train: TrainRun, report, t: float) -> None:
+        """The T2T report, delivered to the follower in the next cycle (later under ``t2t_delay``, never under
+        ``t2t_loss``)."""
+        delay = train.spec.fault("t2t_delay", t)
+        if report is not None and train.spec.fault("t2t_loss", t) is None:
+            late = round(float(delay.value) / self.dt) if delay is not None else 0
+            train.outbox.append((self.step_count + 1 + late, report))
+        due = [r for step, r in train.outbox if step <= self.step_count + 1]
+        train.outbox = [(step, r) for step, r in train.outbox if step > self.step_count + 1]
+        train.report = due[-1] if due else None
+
+    def _manage(self, sends: list[bool], *, deliver: bool = True) -> None:
         """The resource manager on the resources with anything to do (a send, or a message in flight): the slots
         of different resources never interact in :func:`~atcs.model.resources.resource_step`, and an idle
-        resource's slots and owner stay as they are, so this is the whole manager's step."""
+        resource's slots and owner stay as they are, so this is the whole manager's step. In an outage
+        (``deliver`` false) no message reaches the manager or a train."""
         s, trains = self.resources, len(self.trains)
         count = len(s.owner)
         active = [r for r in range(count) if any(
@@ -229,7 +285,7 @@ class Simulation:
         slots = [k * count + r for k in range(trains) for r in active]
         part = ResourceState(owner=tuple(s.owner[r] for r in active), holding=tuple(s.holding[j] for j in slots),
                              up=tuple(s.up[j] for j in slots), down=tuple(s.down[j] for j in slots))
-        every = (True,) * len(slots)
+        every = (deliver,) * len(slots)
         inputs = ResourceInputs(send=tuple(sends[j] for j in slots), deliver_up=every, deliver_down=every)
         nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
         owner, holding, up, down = list(s.owner), list(s.holding), list(s.up), list(s.down)
@@ -244,10 +300,12 @@ class Simulation:
         """One cycle of one train's onboard functions and its plant: returns (its sends to the resource manager,
         the T2T report it sends)."""
         o, s, spec, data = FLOAT, self.scenario, train.spec, train.spec.data
-        tag = train.last_tag
-        pos = train.position.step(PositionInputs(
-            tag_read=tag is not None, tag_id=train.tag_ids[tag] if tag is not None else 0.0,
-            tacho_m=train.last_distance_m))
+        tag = None if spec.fault("missed_tag", t) else train.last_tag
+        tag_id = train.tag_ids[tag] if tag is not None else 0.0
+        spurious = spec.fault("spurious_tag", t)
+        if spurious is not None:
+            tag, tag_id = -1, float(spurious.value)
+        pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
         zones = [float(z.start_m) for z in s.zones if z.active_at(t)]
         report = leader.report if leader is not None else None
         # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
@@ -285,27 +343,45 @@ class Simulation:
         # speed while short of the indication point for its speed, service braking above the target speed or
         # past the indication point
         ahead = limits_ahead(train.mrsp, pos.front_max_m)
+        under = float(s.ato_speed_margin_kmh) / KMH  # the ATO aims this far under the limits
+
+        def aim(limit_mps):
+            return max(limit_mps - under, limit_mps / 2)
+
+        planning_mps2 = float(s.planning_decel_kmhps) / KMH
         target = ato_target(
-            o, front_m=pos.front_max_m, speed_mps=speed, line_limit_mps=ahead.line_limit_mps,
+            o, front_m=pos.front_max_m, speed_mps=speed, line_limit_mps=aim(ahead.line_limit_mps),
             train_max_mps=float(spec.max_speed_kmh) / KMH, next_limit_m=ahead.next_limit_m,
-            next_limit_mps=ahead.next_limit_mps, ma_end_m=eoa_m, ma_speed_mps=0.0,
-            planning_decel_mps2=float(s.planning_decel_kmhps) / KMH, margin_m=float(s.ato_margin_m))
+            next_limit_mps=aim(ahead.next_limit_mps), ma_end_m=eoa_m, ma_speed_mps=0.0,
+            planning_decel_mps2=planning_mps2, margin_m=float(s.ato_margin_m))
         service_max = float(data.service_decelerations_mps2[0])
         train.started = train.started or (departed and not commands.emergency_brake)
         lookahead_m = speed * ATO_LOOKAHEAD_S
         past_indication = pos.front_max_m + lookahead_m >= curves.indication_m
+        station = s.stations[train.next_station] if train.next_station < len(s.stations) else None
+        # the station stop: the estimated front brought to a stop at the stopping point
+        to_stop_m = float(station.stop_m) - pos.front_est_m if station is not None else math.inf
+        station_braking = to_stop_m <= speed * speed / (2 * planning_mps2) + STATION_CREEP_M
+        at_station = station is not None and speed == 0.0 and station_braking
         traction = (departed and speed < target.speed_mps - 0.3 and not past_indication
-                    and not commands.traction_cut)
+                    and not commands.traction_cut and not station_braking)
         ato_brake = 0.0
         if speed > 0 and (pos.front_max_m >= curves.indication_m or not departed):
             ato_brake = service_max
+        elif speed > 0 and station_braking:
+            ato_brake = min(service_max, speed * speed / (2 * max(to_stop_m, 0.01)))
         elif speed > target.speed_mps:
             distance = max(target.location_m - pos.front_max_m - float(s.ato_margin_m) / 2, 0.5)
             wanted = (speed * speed - target.speed_mps ** 2) / (2 * distance)
             ato_brake = min(service_max, max(wanted, 0.05))
-        ignores_sb = any(f.kind == "ignores_service_brake" and f.active_at(t) for f in spec.faults)
+        elif at_station or not departed:
+            ato_brake = service_max  # holding the train at standstill
+        doors = self._doors(train, pos, station if at_station else None, t, immobilised=ato_brake > 0,
+                            traction_request=traction, supervision_cut=bool(commands.traction_cut))
+        traction = bool(doors.traction_applied)
+        ignores_sb = spec.fault("ignores_service_brake", t) is not None
         service = 0.0 if ignores_sb else (service_max if commands.service_brake else ato_brake)
-        self._move(train, commands.emergency_brake, traction, service)
+        self._move(train, commands.emergency_brake, traction, service, t)
 
         if commands.emergency_brake and train.speed_mps == 0.0 and train.stopped_s is None:
             train.stopped_s = t
@@ -317,6 +393,7 @@ class Simulation:
             "ebi_m": curves.ebi_m, "permitted_m": curves.permitted_m, "target_kmh": target.speed_mps * KMH,
             "eb": bool(commands.emergency_brake), "sb": bool(commands.service_brake),
             "traction": bool(traction), "position_valid": bool(pos.position_valid),
+            "doors_open": bool(train.dcu.door_open_left or train.dcu.door_open_right),
         }
         report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid \
             else None
@@ -336,8 +413,40 @@ class Simulation:
         hi = max([(beyond[0] if beyond else len(ends) - 1) + 1] + [r + 2 for r in mine[-1:]])
         return lo, min(hi, len(ends))
 
-    def _move(self, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float) -> None:
-        """The plant: nominal traction and brakes, checked against the proofs' plant bounds."""
+    def _doors(self, train: TrainRun, pos, station, t: float, *, immobilised: bool, traction_request: bool,
+               supervision_cut: bool):
+        """The door loop (:data:`~atcs.model.doors.DOOR_LOOP`, its properties checked each cycle) and the ATO's
+        door cycle at a station stop: open on the platform's side, wait the dwell time from the doors opening,
+        close, and depart once the DCU reports every door closed and locked."""
+        left, right = _station_sides(self.scenario, station, train.spec) if station is not None else (False, False)
+        opening = station is not None and not train.dwell_done
+        obstructed = train.spec.fault("stuck_door", t) is not None
+        inputs = DoorLoopInputs(
+            position_valid=pos.position_valid, front_min_m=pos.front_min_m, front_max_m=pos.front_max_m,
+            speed_mps=pos.speed_est_mps, standstill=pos.standstill, immobilised=immobilised,
+            stopping_point_m=float(station.stop_m) if station is not None else 0.0,
+            stop_tolerance_m=float(self.scenario.stop_tolerance_m), **self.platform_table,
+            request_left=opening and left, request_right=opening and right,
+            probe_front_m=pos.front_min_m, probe_door_m=train.door_params.last_door_m,
+            open_left=opening and left, open_right=opening and right, close=train.dwell_done,
+            obstructed_left=obstructed, obstructed_right=obstructed, traction_request=traction_request,
+            supervision_traction_cut=supervision_cut)
+        train.dcu, out = check_step(DOOR_LOOP, train.door_params, train.dcu, inputs, DOOR_PROPERTIES,
+                                    self.step_count)
+        if station is not None:
+            if train.doors_opened_s is None and (train.dcu.door_open_left or train.dcu.door_open_right):
+                train.doors_opened_s = t
+            if train.doors_opened_s is not None and t >= train.doors_opened_s + float(station.dwell_s):
+                train.dwell_done = True
+            if train.dwell_done and out.closed_locked:
+                train.next_station += 1
+                train.station_stops += 1
+                train.doors_opened_s, train.dwell_done = None, False
+        return out
+
+    def _move(self, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float, t: float) -> None:
+        """The plant: nominal traction and brakes, checked against the proofs' plant bounds; the tachometer reads
+        the distance (scaled under a ``tacho_drift`` fault, or a ``tacho_slide`` one while braking)."""
         p, dt = train.plant, self.dt
         data = train.spec.data
         brake_on = emergency_brake and train.brake_cycles >= p.brake_build_up_cycles
@@ -361,6 +470,10 @@ class Simulation:
         train.front_m += distance
         train.speed_mps = v_next
         train.last_distance_m = distance
+        drift, slide = train.spec.fault("tacho_drift", t), train.spec.fault("tacho_slide", t)
+        braking = a < 0 and v > 0
+        factor = drift.value if drift is not None else (slide.value if slide is not None and braking else 1)
+        train.last_tacho_m = distance * float(factor)
         train.brake_cycles = min(train.brake_cycles + 1, p.brake_build_up_cycles) if emergency_brake else 0.0
         stats = train.stats
         stats.distance_m += distance
@@ -389,6 +502,14 @@ class Simulation:
         while self.step_count < cycles:
             self.step()
         return self
+
+
+def _station_sides(scenario: Scenario, station, spec: TrainSpec) -> tuple[bool, bool]:
+    """The sides (left, right) of the platforms that span the train's doors at the station's stopping point: the
+    sides the ATO asks to open."""
+    spans = [p for p in scenario.platforms
+             if p.start_m <= station.stop_m - spec.last_door_m and station.stop_m - spec.first_door_m <= p.end_m]
+    return any(p.left for p in spans), any(p.right for p in spans)
 
 
 def trace_text(rows: list[dict], suffix: str) -> str:

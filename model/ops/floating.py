@@ -13,21 +13,37 @@ import numpy as np
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
 
 
+_ARRAY = np.ndarray
+
+
 def _any_array(*values) -> bool:
-    return any(isinstance(v, np.ndarray) for v in values)
+    for v in values:  # a loop, not any() over a generator: this runs millions of times in a simulation
+        if isinstance(v, _ARRAY):
+            return True
+    return False
 
 
 class FloatOps:
     name = "float"
 
+    def __init__(self):
+        self._constants: dict[tuple[type, Constant], float] = {}
+
     def const(self, value: Constant) -> float:
-        return float(to_fraction(value))
+        key = (type(value), value)  # the type too: True == 1, but a bool is refused
+        try:
+            return self._constants[key]
+        except KeyError:
+            converted = self._constants[key] = float(to_fraction(value))
+            return converted
+        except TypeError:  # unhashable: to_fraction refuses it
+            return float(to_fraction(value))
 
     def const_bool(self, value: bool) -> bool:
         return bool(value)
 
     def ite(self, cond, then, else_):
-        if _any_array(cond, then, else_):
+        if isinstance(cond, _ARRAY) or isinstance(then, _ARRAY) or isinstance(else_, _ARRAY):
             return np.where(cond, then, else_)
         return then if cond else else_
 
@@ -52,7 +68,7 @@ class FloatOps:
         return any(args)
 
     def not_(self, arg):
-        if _any_array(arg):
+        if isinstance(arg, _ARRAY):
             return np.logical_not(arg)
         return not arg
 
@@ -60,7 +76,7 @@ class FloatOps:
         return self.or_(self.not_(antecedent), consequent)
 
     def eq(self, left, right):
-        if _any_array(left, right):
+        if isinstance(left, _ARRAY) or isinstance(right, _ARRAY):
             return np.equal(left, right)
         return bool(left == right)
 
