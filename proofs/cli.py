@@ -314,13 +314,13 @@ def _sim(args, out: Console, err: Console) -> int:
         except (PropertyViolation, SafetyViolation) as exc:
             failure = exc
     table = Table(title=f"{scenario.name}: {sim.time_s:.1f} s simulated")
-    for column in ("train", "distance (m)", "running (s)", "max speed (km/h)", "EB", "SB", "min gap (m)",
-                   "front at end (m)"):
+    for column in ("train", "distance (m)", "running (s)", "max speed (km/h)", "EB", "SB", "stops",
+                   "min gap (m)", "front at end (m)"):
         table.add_column(column, justify="left" if column == "train" else "right")
     for t in sim.trains:
         s = t.stats
         table.add_row(t.spec.name, f"{s.distance_m:.1f}", f"{s.running_s:.1f}", f"{s.max_speed_kmh:.1f}",
-                      str(s.emergency_brakes), str(s.service_brakes),
+                      str(s.emergency_brakes), str(s.service_brakes), str(s.station_stops),
                       "-" if s.min_gap_m == float("inf") else f"{s.min_gap_m:.1f}", f"{t.front_m:.1f}")
     out.print(table)
     if args.trace is not None:

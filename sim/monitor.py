@@ -29,7 +29,7 @@ class PropertyViolation(AssertionError):
 
 
 def _all(value) -> bool:
-    return bool(np.all(value))
+    return value if isinstance(value, bool) else bool(np.all(value))
 
 
 def check_step(node: Node, params, state, inputs, properties: tuple[Property, ...], step: int, ops=FLOAT):

@@ -65,6 +65,8 @@ ATO_LOOKAHEAD_S = 2.0
 STATION_CREEP_M = 0.5
 """The ATO starts braking for a station stop this far before its braking distance (and, stopped short, creeps up
 to the stopping point from farther than this)."""
+STATION_STOP_M = 0.2
+"""Within this of the stopping point the ATO stops the train with full service braking."""
 FLOAT_MARGIN = 1e-9
 """Traction runs this fraction under the plant's bound, so that IEEE rounding never takes a motion past it."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
@@ -92,6 +94,8 @@ class TrainStats:
     """ATP service-brake interventions (rising edges)."""
     min_gap_m: float = math.inf
     """The least distance from the front to the preceding train's rear."""
+    station_stops: int = 0
+    """Station stops completed: stopped at the stopping point, doors opened, dwell, doors closed and locked."""
 
 
 @dataclass
@@ -128,7 +132,6 @@ class TrainRun:
     """When the doors opened at the current station stop."""
     dwell_done: bool = False
     """The doors have been commanded closed at the current stop."""
-    station_stops: int = 0
     outbox: list = field(default_factory=list)
     """T2T reports sent and not yet delivered: (step delivered, report)."""
     last_tag: int | None = None
@@ -168,11 +171,13 @@ class Simulation:
         self.tags = tag_table(scenario.source, range(1, len(tag_positions) + 1), tag_positions)
         self.trains = [self._train(spec) for spec in scenario.trains]
         resources = len(self.resource_starts[0])
-        zero = (0.0,)
-        self.resources = ResourceState(
-            owner=zero * resources, holding=zero * (resources * len(self.trains)),
-            up=zero * (resources * len(self.trains)), down=zero * (resources * len(self.trains)))
+        slots = resources * len(self.trains)
+        self.resource_state = ([0.0] * resources, [0.0] * slots, [0.0] * slots, [0.0] * slots)
+        """The resource manager's state (owner, holding, up, down, as in :class:`ResourceState`), updated in
+        place."""
         self.held = [[False] * resources for _ in self.trains]
+        self.in_flight: set[int] = set()
+        """The slots with a message on its way (up to the manager or down to the train)."""
         self.platform_table = {k: _floats(v) for k, v in platform_inputs(scenario.platforms).items()}
 
     @property
@@ -230,11 +235,12 @@ class Simulation:
     def step(self) -> None:
         t = self.time_s
         self._restrictions(t)
-        sends, reports = [], []
+        sends, reports = set(), []
+        count = len(self.resource_state[0])
         for k, train in enumerate(self.trains):
             leader = self.trains[k - 1] if k else None
             train_sends, report = self._onboard(train, leader, self.held[k], t)
-            sends.extend(train_sends)
+            sends.update(k * count + r for r in train_sends)
             reports.append(report)
         for train, report in zip(self.trains, reports, strict=True):
             self._send_report(train, report, t)
@@ -271,34 +277,45 @@ class Simulation:
         train.outbox = [(step, r) for step, r in train.outbox if step > self.step_count + 1]
         train.report = due[-1] if due else None
 
-    def _manage(self, sends: list[bool], *, deliver: bool = True) -> None:
-        """The resource manager on the resources with anything to do (a send, or a message in flight): the slots
-        of different resources never interact in :func:`~atcs.model.resources.resource_step`, and an idle
-        resource's slots and owner stay as they are, so this is the whole manager's step. In an outage
-        (``deliver`` false) no message reaches the manager or a train."""
-        s, trains = self.resources, len(self.trains)
-        count = len(s.owner)
-        active = [r for r in range(count) if any(
-            sends[k * count + r] or s.up[k * count + r] or s.down[k * count + r] for k in range(trains))]
-        if not active:
-            return
-        slots = [k * count + r for k in range(trains) for r in active]
-        part = ResourceState(owner=tuple(s.owner[r] for r in active), holding=tuple(s.holding[j] for j in slots),
-                             up=tuple(s.up[j] for j in slots), down=tuple(s.down[j] for j in slots))
-        every = (deliver,) * len(slots)
-        inputs = ResourceInputs(send=tuple(sends[j] for j in slots), deliver_up=every, deliver_down=every)
-        nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
-        owner, holding, up, down = list(s.owner), list(s.holding), list(s.up), list(s.down)
-        for q, r in enumerate(active):
-            owner[r] = nxt.owner[q]
-        for q, j in enumerate(slots):
-            holding[j], up[j], down[j] = nxt.holding[q], nxt.up[q], nxt.down[q]
-            self.held[j // count][j % count] = bool(out.held[q])
-        self.resources = ResourceState(tuple(owner), tuple(holding), tuple(up), tuple(down))
+    def _manage(self, sends: set[int], *, deliver: bool = True) -> None:
+        """The resource manager's step (:data:`~atcs.model.resources.RESOURCES`, its properties checked), one
+        resource at a time, on the slots with anything to do (a send, or a message in flight) and the owner's.
+
+        This is the whole manager's step: in :func:`~atcs.model.resources.resource_step` the slots of different
+        resources never interact, and an idle slot (nothing sent, nothing in flight) stays as it is and leaves
+        the owner as it is; a resource's slots are handled in train order, as here. The owner codes are
+        renumbered for the trains taken. An idle slot of a train other than the owner is free, quiet and not
+        the owner's, so the properties hold of it trivially. In an outage (``deliver`` false) no message reaches
+        the manager or a train. ``sends``: the slots (train * resources + resource) whose train sends."""
+        owner, holding, up, down = self.resource_state
+        count = len(owner)
+        busy: dict[int, set[int]] = {}
+        for j in sends | self.in_flight:
+            busy.setdefault(j % count, set()).add(j // count)
+        for r in sorted(busy):
+            trains = busy[r]
+            if owner[r]:
+                trains.add(int(owner[r]) - 1)
+            trains = sorted(trains)
+            slots = [k * count + r for k in trains]
+            code = {0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}}
+            part = ResourceState(owner=(code[owner[r]],), holding=tuple(holding[j] for j in slots),
+                                 up=tuple(up[j] for j in slots), down=tuple(down[j] for j in slots))
+            every = (deliver,) * len(slots)
+            inputs = ResourceInputs(send=tuple(j in sends for j in slots), deliver_up=every, deliver_down=every)
+            nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
+            owner[r] = float(trains[int(nxt.owner[0]) - 1] + 1) if nxt.owner[0] else 0.0
+            for q, (k, j) in enumerate(zip(trains, slots, strict=True)):
+                holding[j], up[j], down[j] = nxt.holding[q], nxt.up[q], nxt.down[q]
+                if up[j] or down[j]:
+                    self.in_flight.add(j)
+                else:
+                    self.in_flight.discard(j)
+                self.held[k][r] = bool(out.held[q])
 
     def _onboard(self, train: TrainRun, leader: TrainRun | None, held, t: float):
-        """One cycle of one train's onboard functions and its plant: returns (its sends to the resource manager,
-        the T2T report it sends)."""
+        """One cycle of one train's onboard functions and its plant: returns (the resources it sends a request or
+        release for, the T2T report it sends)."""
         o, s, spec, data = FLOAT, self.scenario, train.spec, train.spec.data
         tag = None if spec.fault("missed_tag", t) else train.last_tag
         tag_id = train.tag_ids[tag] if tag is not None else 0.0
@@ -368,8 +385,9 @@ class Simulation:
         ato_brake = 0.0
         if speed > 0 and (pos.front_max_m >= curves.indication_m or not departed):
             ato_brake = service_max
-        elif speed > 0 and station_braking:
-            ato_brake = min(service_max, speed * speed / (2 * max(to_stop_m, 0.01)))
+        elif speed > 0 and station_braking:  # at the stopping point (or a few cm from it): stop now
+            wanted = speed * speed / (2 * to_stop_m) if to_stop_m > STATION_STOP_M else service_max
+            ato_brake = min(service_max, wanted)
         elif speed > target.speed_mps:
             distance = max(target.location_m - pos.front_max_m - float(s.ato_margin_m) / 2, 0.5)
             wanted = (speed * speed - target.speed_mps ** 2) / (2 * distance)
@@ -397,8 +415,7 @@ class Simulation:
         }
         report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid \
             else None
-        sends = [False] * len(held)
-        sends[lo:hi] = [bool(r) or bool(x) for r, x in zip(auth.request, auth.release, strict=True)]
+        sends = [lo + q for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
 
     def _window(self, train: TrainRun, pos, held) -> tuple[int, int]:
@@ -440,7 +457,7 @@ class Simulation:
                 train.dwell_done = True
             if train.dwell_done and out.closed_locked:
                 train.next_station += 1
-                train.station_stops += 1
+                train.stats.station_stops += 1
                 train.doors_opened_s, train.dwell_done = None, False
         return out
 
