@@ -362,6 +362,10 @@ def load_scenario(path: str | Path) -> Scenario:
             raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be on a tag (a multiple of "
                                 f"line.tag_spacing_m = {scenario.tag_spacing_m}): a train powers up on a tag and "
                                 "reads it in its first cycle")
+    if scenario.stations and scenario.stop_tolerance_m <= scenario.tag_window_m:
+        raise ScenarioError(f"{source}: atp.stop_tolerance_m = {scenario.stop_tolerance_m} must exceed "
+                            f"atp.tag_window_m = {scenario.tag_window_m}: the position interval is at least "
+                            "the tag window either side, so the doors could never be enabled at a station")
     for j, station in enumerate(scenario.stations):
         for k, train in enumerate(scenario.trains):
             tolerance = scenario.stop_tolerance_m  # the doors wherever the front is within it

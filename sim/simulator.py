@@ -67,6 +67,11 @@ STATION_CREEP_M = 0.5
 to the stopping point from farther than this)."""
 STATION_STOP_M = 0.2
 """Within this of the stopping point the ATO stops the train with full service braking."""
+FLOAT_SLACK_M = 1e-6
+"""The position interval is checked to contain the true front up to this (both are float sums)."""
+SENSOR_FAULTS = ("missed_tag", "spurious_tag", "tacho_drift", "tacho_slide")
+"""Faults that may take the sensors outside their stated errors: the position interval is not checked to contain
+the true front on a train that has one (the position node's fault detection is what such a run tests)."""
 FLOAT_MARGIN = 1e-9
 """Traction runs this fraction under the plant's bound, so that IEEE rounding never takes a motion past it."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
@@ -323,6 +328,10 @@ class Simulation:
         if spurious is not None:
             tag, tag_id = -1, float(spurious.value)
         pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
+        inside = pos.front_min_m - FLOAT_SLACK_M <= train.front_m <= pos.front_max_m + FLOAT_SLACK_M
+        if pos.position_valid and not inside and not any(f.kind in SENSOR_FAULTS for f in spec.faults):
+            raise SafetyViolation(f"the true front {train.front_m:.3f} m is outside the position interval "
+                                  f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m", spec.name, self.step_count, t)
         zones = [float(z.start_m) for z in s.zones if z.active_at(t)]
         report = leader.report if leader is not None else None
         # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
@@ -484,6 +493,10 @@ class Simulation:
                                   "proofs' plant bounds", train.spec.name, self.step_count, self.time_s)
         passed = [j for j, x in enumerate(train.tags_m) if train.front_m < x <= train.front_m + distance]
         train.last_tag = passed[-1] if passed else None
+        if passed and train.front_m + distance - train.tags_m[passed[-1]] > train.position.params.tag_window_m:
+            raise SafetyViolation(f"ran {distance:.3f} m in a cycle, past the tag window (atp.tag_window_m): the tag "
+                                  "reader's report would be late beyond the position node's assumption",
+                                  train.spec.name, self.step_count, self.time_s)
         train.front_m += distance
         train.speed_mps = v_next
         train.last_distance_m = distance

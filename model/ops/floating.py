@@ -12,12 +12,11 @@ import numpy as np
 
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
 
-
 _ARRAY = np.ndarray
 
 
 def _any_array(*values) -> bool:
-    for v in values:  # a loop, not any() over a generator: this runs millions of times in a simulation
+    for v in values:  # noqa: SIM110 - a loop is faster than any() over a generator, and this runs millions of times
         if isinstance(v, _ARRAY):
             return True
     return False
