@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections import deque
 from pathlib import Path
 
 from rich.console import Console
@@ -21,6 +22,9 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, T
 from rich.table import Table
 
 EXIT_OK, EXIT_FALSIFIED, EXIT_USAGE, EXIT_UNKNOWN = 0, 1, 2, 3
+VIOLATION_TRACE_CYCLES = 600
+"""``atcs sim`` without ``--trace``: on a violation, the last this many cycles are written to
+``SCENARIO_violation.csv`` in the current directory."""
 
 _STYLE = {"proved": "green", "falsified": "bold red", "unknown": "yellow", "error": "bold magenta"}
 
@@ -99,7 +103,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     m = sub.add_parser("sim", help="run a scenario in closed loop, checking the properties every cycle")
     m.add_argument("scenario", metavar="SCENARIO", help="a scenario file, or the name of a shipped one (sim/scenarios)")
-    m.add_argument("--trace", metavar="FILE", help="write every cycle of every train here (.csv or .jsonl)")
+    m.add_argument("--trace", metavar="FILE", help="write every cycle of every train here (.csv or .jsonl); "
+                   "without it a failed run writes its last 60 s to SCENARIO_violation.csv")
     m.add_argument("--plot", metavar="DIR", help="write a speed-distance plot per train and a time-distance "
                    "diagram here (PNG)")
 
@@ -293,6 +298,7 @@ def _sim(args, out: Console, err: Console) -> int:
             raise UsageError(f"sim: {exc}") from None
     rows: list[dict] = []
     records: list[list[dict]] = []
+    recent: deque[list[dict]] = deque(maxlen=VIOLATION_TRACE_CYCLES)
     cycles = int(scenario.duration_s / scenario.cycle_s)
     out.print(f"{scenario.name} (seed {scenario.seed}): {scenario.description}")
     failure = None
@@ -303,6 +309,8 @@ def _sim(args, out: Console, err: Console) -> int:
         def record(sim):
             if args.trace is not None:
                 rows.extend({"train": t.spec.name, **t.last} for t in sim.trains)
+            else:  # the last cycles, written out if the run fails
+                recent.append([{"train": t.spec.name, **t.last} for t in sim.trains])
             if args.plot is not None:
                 records.append([dict(t.last) for t in sim.trains])
             if sim.step_count % 50 == 0:
@@ -333,6 +341,10 @@ def _sim(args, out: Console, err: Console) -> int:
             out.print(f"plot: {path}")
     if failure is not None:
         out.print(f"[bold red]violation:[/] {failure}")
+        if args.trace is None:
+            path = Path(f"{scenario.name}_violation.csv")
+            write_atomic(path, trace_text([row for cycle in recent for row in cycle], ".csv"))
+            out.print(f"trace of the last {len(recent)} cycles: {path}")
         return EXIT_FALSIFIED
     out.print("[green]no violation[/]: every checked property held at every cycle")
     return EXIT_OK

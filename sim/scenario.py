@@ -164,6 +164,8 @@ class Scenario:
     stop_tolerance_m: Fraction = Fraction(1)
     """How far the safe front interval may lie from a station's stopping point for the doors (seed 004 §2.1)."""
     manager_outages: tuple[Window, ...] = ()
+    ato_reference_profile: bool = False
+    """The ATO tracks the minimum-time profile to the next station stop (:mod:`atcs.sim.reference_profile`)."""
 
 
 class _Reader:
@@ -298,7 +300,11 @@ def load_scenario(path: str | Path) -> Scenario:
     line_m = line.number("length_m", positive=True)
     atp = _Reader(source, document["atp"], "atp", ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m",
                                                     "tacho_error", "national", "stop_tolerance_m"))
-    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh"))
+    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh",
+                                                    "reference_profile"))
+    reference = document["ato"].get("reference_profile", False)
+    if not isinstance(reference, bool):
+        ato.fail("reference_profile", "must be true or false")
     tacho_error = atp.number("tacho_error", minimum=0)
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
@@ -353,7 +359,7 @@ def load_scenario(path: str | Path) -> Scenario:
         platforms=platforms, national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
         ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0), restrictions=tuple(restrictions),
         stations=tuple(stations), stop_tolerance_m=atp.number("stop_tolerance_m", 1, positive=True),
-        manager_outages=tuple(outages),
+        manager_outages=tuple(outages), ato_reference_profile=reference,
     )
     if scenario.tag_spacing_m > line_m or scenario.resource_length_m > line_m:
         raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
@@ -362,6 +368,9 @@ def load_scenario(path: str | Path) -> Scenario:
             raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be on a tag (a multiple of "
                                 f"line.tag_spacing_m = {scenario.tag_spacing_m}): a train powers up on a tag and "
                                 "reads it in its first cycle")
+    if scenario.ato_reference_profile and not scenario.stations:
+        raise ScenarioError(f"{source}: ato.reference_profile = true needs [[stations]]: the profile runs from stop "
+                            "to stop")
     if scenario.stations and scenario.stop_tolerance_m <= scenario.tag_window_m:
         raise ScenarioError(f"{source}: atp.stop_tolerance_m = {scenario.stop_tolerance_m} must exceed "
                             f"atp.tag_window_m = {scenario.tag_window_m}: the position interval is at least "

@@ -57,6 +57,7 @@ from atcs.model.train_data import NationalData, TrainData
 from atcs.properties import select
 from atcs.properties.closed_loop import preset_data
 from atcs.sim.monitor import Monitor, check_step
+from atcs.sim.reference_profile import ReferenceProfile, atp_ceiling, minimum_time_profile
 from atcs.sim.scenario import Scenario, TrainSpec
 
 KMH = float(KMH_PER_MPS)
@@ -137,6 +138,10 @@ class TrainRun:
     """When the doors opened at the current station stop."""
     dwell_done: bool = False
     """The doors have been commanded closed at the current stop."""
+    reference: ReferenceProfile | None = None
+    """The minimum-time profile the ATO tracks to the next station stop (``ato.reference_profile``)."""
+    references: list[ReferenceProfile] = field(default_factory=list)
+    """Every profile computed so far, one per stretch."""
     outbox: list = field(default_factory=list)
     """T2T reports sent and not yet delivered: (step delivered, report)."""
     last_tag: int | None = None
@@ -389,7 +394,15 @@ class Simulation:
         to_stop_m = float(station.stop_m) - pos.front_est_m if station is not None else math.inf
         station_braking = to_stop_m <= speed * speed / (2 * planning_mps2) + STATION_CREEP_M
         at_station = station is not None and speed == 0.0 and station_braking
-        traction = (departed and speed < target.speed_mps - 0.3 and not past_indication
+        tracking = None
+        if station is not None and s.ato_reference_profile and departed:
+            if train.reference is None:
+                train.reference = self._reference(train, pos.front_est_m, station)
+                train.references.append(train.reference)
+            reach_m = speed * self.dt + a_est * self.dt ** 2 / 2  # where a cycle of full traction ends
+            tracking = train.reference.speed_at(pos.front_est_m + reach_m)
+        aim_mps = target.speed_mps if tracking is None else min(target.speed_mps, tracking)
+        traction = (departed and speed < aim_mps - (0.3 if tracking is None else 0.02) and not past_indication
                     and not commands.traction_cut and not station_braking)
         ato_brake = 0.0
         if speed > 0 and (pos.front_max_m >= curves.indication_m or not departed):
@@ -397,6 +410,8 @@ class Simulation:
         elif speed > 0 and station_braking:  # at the stopping point (or a few cm from it): stop now
             wanted = speed * speed / (2 * to_stop_m) if to_stop_m > STATION_STOP_M else service_max
             ato_brake = min(service_max, wanted)
+        elif tracking is not None and speed > tracking:  # down to the profile's speed at the cycle's end
+            ato_brake = min(service_max, (speed - tracking) / self.dt)
         elif speed > target.speed_mps:
             distance = max(target.location_m - pos.front_max_m - float(s.ato_margin_m) / 2, 0.5)
             wanted = (speed * speed - target.speed_mps ** 2) / (2 * distance)
@@ -466,9 +481,21 @@ class Simulation:
                 train.dwell_done = True
             if train.dwell_done and out.closed_locked:
                 train.next_station += 1
+                train.reference = None
                 train.stats.station_stops += 1
                 train.doors_opened_s, train.dwell_done = None, False
         return out
+
+    def _reference(self, train: TrainRun, from_m: float, station) -> ReferenceProfile:
+        """The minimum-time profile from ``from_m`` to the station's stop: under the ATP's indication curve for
+        the line (less the ATO's speed margin), the train's traction and the ATO's planning deceleration."""
+        s = self.scenario
+        horizon = Horizon(train.mrsp, train.gradient, float(s.line_m), 0.0)
+        margin_mps = max(float(s.ato_speed_margin_kmh) / KMH, 0.5)
+        ceiling = atp_ceiling(train.train_data, train.national, horizon, margin_mps=margin_mps)
+        return minimum_time_profile(ceiling, from_m, float(station.stop_m),
+                                    accel_mps2=float(train.plant.max_acceleration_mps2),
+                                    decel_mps2=float(s.planning_decel_kmhps) / KMH)
 
     def _move(self, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float, t: float) -> None:
         """The plant: nominal traction and brakes, checked against the proofs' plant bounds; the tachometer reads

@@ -233,6 +233,35 @@ class TestSeed002Outcomes:
         assert all(t.stats.emergency_brakes == 0 and t.stats.min_gap_m > 0 for t in sim.trains)
 
 
+class TestReferenceProfile:
+    """The ATO tracking the minimum-time profile (cvxpy, Clarabel) from stop to stop: the ATP never intervenes, and
+    each stretch takes about the profile's optimal running time."""
+
+    def test_the_atp_never_intervenes_and_the_stretches_take_the_optimal_time(self):
+        scenario = load_scenario(resolve("seed002_optimal_profile"))
+        assert scenario.ato_reference_profile
+        sim, records = _run(scenario)
+        (train,) = sim.trains
+        assert train.stats.station_stops == 2 and (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+        assert not any(r[0]["eb"] or r[0]["sb"] for r in records[5:])  # past the power-up EB: no intervention
+        assert [p.positions_m[-1] for p in train.references] == [8810, 14010, 19210]
+        departures = [0.0] + [r[0]["t_s"] for a, r in itertools.pairwise(records) if a[0]["doors_open"]
+                              and not r[0]["doors_open"]]
+        arrivals = [r[0]["t_s"] for a, r in itertools.pairwise(records) if r[0]["doors_open"]
+                    and not a[0]["doors_open"]]
+        for profile, left, arrived in zip(train.references, departures, arrivals, strict=False):
+            assert profile.solver_status == "optimal"
+            # tracking overshoots by a few cm/s, and the doors open a cycle or two after the stop
+            assert abs(arrived - left - profile.running_time_s) <= profile.running_time_s * 0.01 + 1.0
+
+    def test_needs_stations(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(FAULT_LINE.format(leader="", line="", duration_s=10).replace(
+            "margin_m = 30", "margin_m = 30\nreference_profile = true"))
+        with pytest.raises(ScenarioError, match=r"ato\.reference_profile = true needs"):
+            load_scenario(path)
+
+
 class TestFaults:
     """Each fault the scenarios can inject, and the ATP's safe reaction; no property is violated (a violation
     would raise)."""
@@ -360,6 +389,15 @@ class TestCommandLine:
         assert "violation:" in capsys.readouterr().out
         rows = [json.loads(line) for line in trace.read_text().splitlines()]
         assert rows and rows[0]["train"] == "T1"
+
+    def test_a_violation_without_trace_writes_the_last_cycles(self, tmp_path, capsys, monkeypatch):
+        monkeypatch.chdir(tmp_path)
+        monkeypatch.setattr(simulator, "AUTHORITY", ZONE_IGNORED)
+        assert main(["sim", "seed000_protection_zone"]) == 1
+        text = capsys.readouterr().out
+        assert "authority.before_protection_zone" in text and "seed000_protection_zone_violation.csv" in text
+        lines = (tmp_path / "seed000_protection_zone_violation.csv").read_text().splitlines()
+        assert lines[0].startswith("train,t_s,front_m") and len(lines) == 1 + 600
 
     def test_plots(self, tmp_path, capsys):
         out = tmp_path / "plots"
