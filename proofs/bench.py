@@ -22,6 +22,7 @@ from atcs.model.psl import Restriction, permanent_speed_limit, restricted
 from atcs.model.restrictions import SpeedRestrictions, as_float, canonical
 from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
 from atcs.proofs.bench_cycle import bench_cycle
+from atcs.proofs.bench_sim import bench_sim
 
 CYCLE_S = 0.1  # one ATP cycle (seed 001)
 
@@ -193,5 +194,5 @@ def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
 
 
 BENCHMARKS: dict[str, Callable[[Console], object]] = {
-    "supervision": bench_supervision, "mrsp": bench_mrsp, "cycle": bench_cycle,
+    "supervision": bench_supervision, "mrsp": bench_mrsp, "cycle": bench_cycle, "sim": bench_sim,
 }

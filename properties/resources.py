@@ -69,6 +69,21 @@ def _manager_records_holder(o, p, s, i, out, nxt):
     return o.and_(*(o.implies(out.held[j], o.eq(nxt.owner[r], o.const(train + 1))) for j, train, r in _slots(s)))
 
 
+def _idle_unchanged(o, p, s, i, out, nxt):
+    trains, resources = slot_count(s)
+
+    def idle(j):
+        return o.and_(o.not_(i.send[j]), o.eq(s.up[j], o.const(NO_MESSAGE)), o.eq(s.down[j], o.const(NO_MESSAGE)))
+
+    facts = [o.implies(idle(j), o.and_(o.eq(nxt.holding[j], s.holding[j]), o.eq(nxt.up[j], s.up[j]),
+                                       o.eq(nxt.down[j], s.down[j])))
+             for j, _, _ in _slots(s)]
+    facts += [o.implies(o.and_(*(idle(train * resources + r) for train in range(trains))),
+                        o.eq(nxt.owner[r], s.owner[r]))
+              for r in range(resources)]
+    return o.and_(*facts)
+
+
 PROPERTIES = (
     Property(
         name="resources.protocol_consistent",
@@ -99,6 +114,17 @@ PROPERTIES = (
         node=RESOURCES,
         holds=_manager_records_holder,
         lemmas=("resources.protocol_consistent",),
+    ),
+    Property(
+        name="resources.idle_slot_unchanged",
+        requirement="RES-06",
+        seed="001 §3.2",
+        text=(
+            "A slot with nothing sent and nothing in flight keeps its state, and a resource whose slots are all "
+            "idle keeps its owner (the simulator steps the manager on the busy slots only)."
+        ),
+        node=RESOURCES,
+        holds=_idle_unchanged,
     ),
 )
 

@@ -223,6 +223,22 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
     assert "share of 100 ms cycle" in text and "per-metre arrays" in text
 
 
+def test_sim_benchmark_prints_the_cost_per_fleet():
+    from rich.console import Console
+
+    from atcs.proofs.bench_sim import bench_sim, fleet_scenario
+
+    console = Console(record=True, width=160)
+    results = bench_sim(console, fleets=(2, 4), warm_up=5, cycles=10)  # the figures are for `atcs bench sim`
+    assert set(results) == {f"{n}_trains_{what}" for n in (2, 4) for what in ("cycle_s", "real_time_factor")}
+    assert all(v > 0 for v in results.values())
+    assert "real-time factor" in console.export_text()
+    fleet = fleet_scenario(100)
+    assert [t.front_m for t in fleet.trains[:2]] == [40000, 39600] and fleet.trains[-1].front_m == 400
+    with pytest.raises(ValueError, match="trains must be from 1 to 142, got 500"):
+        fleet_scenario(500)
+
+
 def test_console_script_is_installed():
     script = Path(sys.executable).parent / "atcs"
     done = subprocess.run([str(script), "prove", "--only", "supervision.eb_above_ebi"],

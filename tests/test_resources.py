@@ -29,6 +29,9 @@ MUTANTS = {
     "resources.manager_records_holder": (
         "o.ite(releases, code(RELEASING), after_reply)", "o.ite(releases, code(HELD), after_reply)",
     ),
+    # a train sends a request or release it was not asked to send
+    "resources.idle_slot_unchanged": ("sends = o.and_(i.send[j], o.not_(reply), is_(s.up[j], NO_MESSAGE))",
+                                      "sends = o.and_(o.not_(reply), is_(s.up[j], NO_MESSAGE))"),
 }
 
 
