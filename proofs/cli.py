@@ -1,4 +1,4 @@
-"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``sim``, ``bench``.
+"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``sim``, ``headway``, ``bench``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
@@ -108,6 +108,10 @@ def build_parser() -> argparse.ArgumentParser:
     m.add_argument("--plot", metavar="DIR", help="write a speed-distance plot per train and a time-distance "
                    "diagram here (PNG)")
 
+    h = sub.add_parser("headway", help="the least steady-state headway: measured in closed loop, the ATP's and "
+                       "the separation invariant's, in both modes")
+    h.add_argument("--speed", metavar="KMH", default="80", help="the steady speed (km/h, default 80)")
+
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
     return parser
@@ -120,7 +124,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         command = {"prove": _prove, "replay": _replay, "curves": _curves, "platforms": _platforms, "sim": _sim,
-                   "bench": _bench}[args.command]
+                   "headway": _headway, "bench": _bench}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -430,6 +434,36 @@ def _curves(args, out: Console, err: Console) -> int:
             table.add_row(f"{float(target.location_m):g} @ {float(target.speed_mps * KMH_PER_MPS):g}",
                           *("-" if c > Fraction(10**6) else f"{float(c):.2f}" for c in cells))
         out.print(table)
+    return EXIT_OK
+
+
+# --- headway -----------------------------------------------------------------------------
+
+
+def _headway(args, out: Console, err: Console) -> int:
+    from atcs.model.profile import ProfileError, parse_number
+    from atcs.sim.headway import HeadwayError, headway_report
+
+    try:
+        speed = parse_number("headway", "--speed", args.speed, ProfileError)
+    except ProfileError as exc:
+        raise UsageError(str(exc)) from None
+    if not 0 < speed <= 120:
+        raise UsageError(f"headway: --speed = {args.speed!r} must be in (0, 120] km/h")
+    try:
+        rows = headway_report(speed)
+    except HeadwayError as exc:
+        raise UsageError(f"headway: {exc}") from None
+    table = Table(title=f"headway at a steady {float(speed):g} km/h: gap from the follower's front to the leader's "
+                        "rear, and (gap + train length) / speed")
+    for column in ("mode", "measured (sim)", "ATP-limited", "invariant bound"):
+        table.add_column(column, justify="left" if column == "mode" else "right")
+    for row in rows:
+        table.add_row(row["mode"], *(f"{float(row[f'{k}_gap_m']):.1f} m, {float(row[f'{k}_headway_s']):.1f} s"
+                                     for k in ("measured", "atp", "invariant")))
+    out.print(table)
+    out.print(f"measured with {float(rows[0]['resource_length_m']):g} m resources (sim/headway.py explains the "
+              "three figures)")
     return EXIT_OK
 
 

@@ -115,6 +115,8 @@ class TestProve:
             (["prove", "--jobs", "0"], "--jobs: must be at least 1"),
             (["prove", "--frobnicate"], "unrecognized arguments"),
             (["bench", "nosuch"], "unknown benchmark 'nosuch'"),
+            (["headway", "--speed", "x"], "headway: --speed = 'x' is not a number"),
+            (["headway", "--speed", "0"], "headway: --speed = '0' must be in (0, 120] km/h"),
             ([], "required"),
         ],
     )
