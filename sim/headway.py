@@ -93,17 +93,22 @@ def _mode(mode) -> str:
     raise HeadwayError(f"mode must be one of {', '.join((*MODES, *MODES.values()))}, got {mode!r}")
 
 
-def _positive(name: str, value) -> Fraction:
-    """``value`` as an exact positive number (a float as the decimal it prints as)."""
+def _number(name: str, value, *, zero_ok: bool = False) -> Fraction:
+    """``value`` as an exact number, positive (or >= 0 with ``zero_ok``); a float as the decimal it prints as."""
+    expected = "a number >= 0" if zero_ok else "a positive number"
     if isinstance(value, bool) or not isinstance(value, (int, float, str, Fraction)):
-        raise HeadwayError(f"{name} must be a positive number, got {value!r}")
+        raise HeadwayError(f"{name} must be {expected}, got {value!r}")
     try:
         exact = Fraction(repr(value)) if isinstance(value, float) else Fraction(value)
     except (ValueError, ZeroDivisionError):
-        raise HeadwayError(f"{name} must be a positive number, got {value!r}") from None
-    if not exact > 0:
-        raise HeadwayError(f"{name} must be a positive number, got {value!r}")
+        raise HeadwayError(f"{name} must be {expected}, got {value!r}") from None
+    if exact < 0 or (exact == 0 and not zero_ok):
+        raise HeadwayError(f"{name} must be {expected}, got {value!r}")
     return exact
+
+
+def _positive(name: str, value) -> Fraction:
+    return _number(name, value)
 
 
 def _figure(mode: str, kind: str, speed_kmh: Fraction, gap_m, length_m, exact=None, **details) -> HeadwayFigure:
@@ -132,13 +137,13 @@ def scenario_text(mode: str, speed_kmh=80, *, resource_length_m=50, duration_s=2
     for name, value in (("resource_length_m", resource_length_m), ("max_ma_m", max_ma_m),
                         ("report_timeout_s", report_timeout_s), ("planning_decel_kmhps", planning_decel_kmhps)):
         _positive(name, value)
-    depart = Fraction(follower_depart_s)
-    if not 0 <= depart < duration:
+    depart = _number("follower_depart_s", follower_depart_s, zero_ok=True)
+    if not depart < duration:
         raise HeadwayError(f"follower_depart_s must lie in [0, duration_s = {duration}), got {follower_depart_s!r}")
     if preset not in PRESETS:
         raise HeadwayError(f"preset must be one of {', '.join(PRESETS)}, got {preset!r}")
     follower_front = LEADER_FRONT_M - PRESETS[preset]().train_length_m - TAG_SPACING_M
-    run_m = LEADER_FRONT_M + speed / KMH_PER_MPS * duration + 2 * Fraction(max_ma_m)
+    run_m = LEADER_FRONT_M + speed / KMH_PER_MPS * duration + Fraction(max_ma_m)  # the leader never sees the end
     line_m = (int(run_m) // TAG_SPACING_M + 1) * TAG_SPACING_M
     n = _toml_number
     trains = "".join(
@@ -225,11 +230,8 @@ def headway_setting(scenario: Scenario, *, position_error_m=None, speed_error_mp
         position_error_m = odometry_interval(EXACT, position, Fraction(0), spacing)[1] - spacing
     if speed_error_mps is None:
         speed_error_mps = speed_accuracy_mps(EXACT, position, mrsp_mps)
-    errors = {}
-    for name, value in (("position_error_m", position_error_m), ("speed_error_mps", speed_error_mps)):
-        if isinstance(value, bool) or not isinstance(value, (int, float, Fraction)) or value < 0:
-            raise HeadwayError(f"{name} must be a number >= 0, got {value!r}")
-        errors[name] = Fraction(repr(value)) if isinstance(value, float) else Fraction(value)
+    errors = {name: _number(name, value, zero_ok=True)
+              for name, value in (("position_error_m", position_error_m), ("speed_error_mps", speed_error_mps))}
     params = TwoTrainParams(**{
         **data, **as_dict(follower.authority_params),
         "gradient_starts_m": gradient.starts_m, "gradient_permille": gradient.values, "line_end_m": line_m,
@@ -364,11 +366,10 @@ def sim_limited_gap(mode: str, speed_kmh=80, *, locked_behind_m=0, position_erro
     with its end of authority ``locked_behind_m`` behind the leader's min safe rear (0: the first resource the
     leader holds starts at that rear, the best case; ``resource_length_m``: the worst)."""
     mode, speed_kmh = _mode(mode), _positive("speed_kmh", speed_kmh)
-    if isinstance(locked_behind_m, bool) or not isinstance(locked_behind_m, (int, Fraction)) or locked_behind_m < 0:
-        raise HeadwayError(f"locked_behind_m must be a whole or exact number >= 0, got {locked_behind_m!r}")
+    locked_behind_m = _number("locked_behind_m", locked_behind_m, zero_ok=True)
     scenario = headway_scenario(mode, speed_kmh, follower_data=follower_data, **options)
     setting = headway_setting(scenario, position_error_m=position_error_m, speed_error_mps=speed_error_mps)
-    gaps = _atp_gaps(setting, speed_kmh / KMH_PER_MPS, Fraction(locked_behind_m))
+    gaps = _atp_gaps(setting, speed_kmh / KMH_PER_MPS, locked_behind_m)
     return max(gaps["route_locked_indication"], gaps["route_locked_ato"])
 
 
@@ -401,8 +402,8 @@ def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_
         initial_gap = leader.front_m - leader.data.train_length_m - follower.front_m
         late = max(Fraction(0), (start_gap - initial_gap) / (speed_kmh / KMH_PER_MPS))
         follower_depart_s = Fraction(round(late / scenario.cycle_s)) * scenario.cycle_s
-    depart = Fraction(follower_depart_s)
-    if not 0 <= depart < duration - settle_s:
+    depart = _number("follower_depart_s", follower_depart_s, zero_ok=True)
+    if not depart < duration - settle_s:
         raise HeadwayError(f"follower_depart_s must lie in [0, duration_s - settle_s = {duration - settle_s}), got "
                            f"{follower_depart_s!r}")
     scenario = dataclasses.replace(scenario, trains=(leader, dataclasses.replace(follower, depart_s=depart)))

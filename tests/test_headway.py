@@ -1,8 +1,8 @@
 """Headway at 80 km/h (issue 8, seed 001 §3.2 Fig. 6, seed 000 §2.5): the separation invariant's bound, the
 ATP-limited gap and the simulator's steady state, in both modes. The invariant's figure is checked against SEP-01's
 own predicate; the measurement settles between the theory's best and worst phases of the route locking; a follower
-with half the emergency brake moves every figure the expected way, out of the nominal bound. About 50 s (three
-closed-loop runs of 2,000 cycles)."""
+with half the emergency brake moves every figure the expected way, out of the nominal bound. About 55 s (three
+closed-loop runs of about 2,000 cycles)."""
 
 import dataclasses
 from fractions import Fraction
@@ -106,8 +106,10 @@ def test_measured_gap_settles_between_the_route_locking_phases(theory, measured,
     worst = float(sim_limited_gap(mode, SPEED_KMH, locked_behind_m=RESOURCE_M, resource_length_m=RESOURCE_M))
     assert worst == pytest.approx(best + RESOURCE_M, abs=25)
     assert best - SETTLE_SLACK_M <= figure.gap_m <= worst + SETTLE_SLACK_M
-    assert figure.gap_m - theory[mode, "atp"].gap_m < RESOURCE_M + 150 + (
-        theory[mode, "atp"].details["route_locked_ato_m"] - theory[mode, "atp"].gap_m)
+    # over the ATP-limited figure: at most a resource and the slack, plus what the ATO's planning and the route
+    # locking take (in relative braking, the whole credit for the leader's stopping distance)
+    atp = theory[mode, "atp"].gap_m
+    assert figure.gap_m - atp <= RESOURCE_M + SETTLE_SLACK_M + (best - atp)
     assert figure.headway_s == pytest.approx((figure.gap_m + 200) / float(SPEED_MPS))
 
 
@@ -118,7 +120,9 @@ def test_weak_follower_brake_moves_every_figure_out_of_the_nominal_bound(theory,
     for limit in ("invariant", "atp"):
         weak = theoretical_minimum(mode, SPEED_KMH, limit=limit, follower_data=WEAK)
         assert weak.gap_m > theory[mode, limit].gap_m + 100
-    figure = measured_minimum(mode, SPEED_KMH, resource_length_m=RESOURCE_M, follower_data=WEAK, settle_m=10)
+    # a shorter run, and so a looser settling (it is still closing 0.1 m/s): the figure moves by hundreds of metres
+    figure = measured_minimum(mode, SPEED_KMH, resource_length_m=RESOURCE_M, follower_data=WEAK, duration_s=170,
+                              settle_m=10)
     nominal_worst = float(sim_limited_gap(mode, SPEED_KMH, locked_behind_m=RESOURCE_M, resource_length_m=RESOURCE_M))
     assert figure.gap_m > measured[mode].gap_m + 100
     assert figure.gap_m > nominal_worst + SETTLE_SLACK_M  # the nominal check rejects it
@@ -130,7 +134,7 @@ def test_weak_follower_brake_moves_every_figure_out_of_the_nominal_bound(theory,
 
 def test_too_short_a_run_has_no_steady_state():
     with pytest.raises(HeadwayError, match="no steady state"):
-        measured_minimum("brick_wall", SPEED_KMH, duration_s=65, follower_depart_s=0)
+        measured_minimum("brick_wall", SPEED_KMH, duration_s=30, settle_s=20, follower_depart_s=0)
 
 
 @pytest.mark.parametrize(("call", "message"), [
@@ -141,7 +145,8 @@ def test_too_short_a_run_has_no_steady_state():
     (lambda: theoretical_minimum("rbd", 80, position_error_m=-1), "position_error_m must be a number >= 0, got -1"),
     (lambda: theoretical_minimum("rbd", 80, follower_data="weak"), "follower_data must be TrainData, got 'weak'"),
     (lambda: theoretical_minimum("rbd", 80, preset="seed009"), "preset must be one of .* got 'seed009'"),
-    (lambda: sim_limited_gap("bw", 80, locked_behind_m=-5), "locked_behind_m must be .* got -5"),
+    (lambda: sim_limited_gap("bw", 80, locked_behind_m=-5), "locked_behind_m must be a number >= 0, got -5"),
+    (lambda: scenario_text("bw", 80, follower_depart_s="soon"), "follower_depart_s must be a number >= 0, got 'soon'"),
     (lambda: scenario_text("bw", 80, resource_length_m=0), "resource_length_m must be a positive number, got 0"),
     (lambda: scenario_text("bw", 80, duration_s=100, follower_depart_s=100), "follower_depart_s must lie in"),
     (lambda: measured_minimum("bw", 80, duration_s=60, settle_s=60), "settle_s must be shorter than duration_s"),
