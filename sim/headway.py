@@ -107,10 +107,6 @@ def _number(name: str, value, *, zero_ok: bool = False) -> Fraction:
     return exact
 
 
-def _positive(name: str, value) -> Fraction:
-    return _number(name, value)
-
-
 def _figure(mode: str, kind: str, speed_kmh: Fraction, gap_m, length_m, exact=None, **details) -> HeadwayFigure:
     speed_mps = speed_kmh / KMH_PER_MPS
     headway = (Fraction(gap_m) + Fraction(length_m)) / speed_mps
@@ -133,10 +129,10 @@ def scenario_text(mode: str, speed_kmh=80, *, resource_length_m=50, duration_s=2
     ``speed_kmh``, tags every 100 m, two trains of ``preset``, the follower powered up on the tag one spacing
     behind the leader's rear and departing ``follower_depart_s`` after it."""
     mode = _mode(mode)
-    speed, duration = _positive("speed_kmh", speed_kmh), _positive("duration_s", duration_s)
+    speed, duration = _number("speed_kmh", speed_kmh), _number("duration_s", duration_s)
     for name, value in (("resource_length_m", resource_length_m), ("max_ma_m", max_ma_m),
                         ("report_timeout_s", report_timeout_s), ("planning_decel_kmhps", planning_decel_kmhps)):
-        _positive(name, value)
+        _number(name, value)
     depart = _number("follower_depart_s", follower_depart_s, zero_ok=True)
     if not depart < duration:
         raise HeadwayError(f"follower_depart_s must lie in [0, duration_s = {duration}), got {follower_depart_s!r}")
@@ -341,7 +337,7 @@ def theoretical_minimum(mode: str, speed_kmh=80, *, limit: str = "atp", position
     follower's train data instead of the preset's; ``options``: :func:`scenario_text`'s."""
     if limit not in ("invariant", "atp"):
         raise HeadwayError(f"limit must be 'invariant' or 'atp', got {limit!r}")
-    mode, speed_kmh = _mode(mode), _positive("speed_kmh", speed_kmh)
+    mode, speed_kmh = _mode(mode), _number("speed_kmh", speed_kmh)
     scenario = headway_scenario(mode, speed_kmh, follower_data=follower_data, **options)
     setting = headway_setting(scenario, position_error_m=position_error_m, speed_error_mps=speed_error_mps)
     p, speed_mps = setting.params, speed_kmh / KMH_PER_MPS
@@ -365,7 +361,7 @@ def sim_limited_gap(mode: str, speed_kmh=80, *, locked_behind_m=0, position_erro
     gaps its indication point and its ATO's target speed need (:func:`theoretical_minimum`, ``route_locked_*``),
     with its end of authority ``locked_behind_m`` behind the leader's min safe rear (0: the first resource the
     leader holds starts at that rear, the best case; ``resource_length_m``: the worst)."""
-    mode, speed_kmh = _mode(mode), _positive("speed_kmh", speed_kmh)
+    mode, speed_kmh = _mode(mode), _number("speed_kmh", speed_kmh)
     locked_behind_m = _number("locked_behind_m", locked_behind_m, zero_ok=True)
     scenario = headway_scenario(mode, speed_kmh, follower_data=follower_data, **options)
     setting = headway_setting(scenario, position_error_m=position_error_m, speed_error_mps=speed_error_mps)
@@ -387,18 +383,18 @@ def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_
     its target, and the follower brakes a little more at its limit) and the gap within ``settle_m``; the follower
     must have been held back (braked while running) and its end of authority not limited by ``max_ma_m``.
     Otherwise :class:`HeadwayError`."""
-    mode, speed_kmh = _mode(mode), _positive("speed_kmh", speed_kmh)
-    settle_s, settle_m = _positive("settle_s", settle_s), _positive("settle_m", settle_m)
-    tolerance, duration = _positive("speed_tolerance_kmh", speed_tolerance_kmh), _positive("duration_s", duration_s)
+    mode, speed_kmh = _mode(mode), _number("speed_kmh", speed_kmh)
+    settle_s, settle_m = _number("settle_s", settle_s), _number("settle_m", settle_m)
+    tolerance, duration = _number("speed_tolerance_kmh", speed_tolerance_kmh), _number("duration_s", duration_s)
     if settle_s >= duration:
         raise HeadwayError(f"settle_s must be shorter than duration_s = {duration_s!r}, got {settle_s}")
     scenario = headway_scenario(mode, speed_kmh, resource_length_m=resource_length_m, duration_s=duration_s,
                                 follower_data=follower_data, **options)
     leader, follower = scenario.trains
     if follower_depart_s is None:
-        worst = sim_limited_gap(mode, speed_kmh, locked_behind_m=_positive("resource_length_m", resource_length_m),
+        worst = sim_limited_gap(mode, speed_kmh, locked_behind_m=_number("resource_length_m", resource_length_m),
                                 follower_data=follower_data, resource_length_m=resource_length_m, **options)
-        start_gap = worst - _positive("approach_m", approach_m)
+        start_gap = worst - _number("approach_m", approach_m)
         initial_gap = leader.front_m - leader.data.train_length_m - follower.front_m
         late = max(Fraction(0), (start_gap - initial_gap) / (speed_kmh / KMH_PER_MPS))
         follower_depart_s = Fraction(round(late / scenario.cycle_s)) * scenario.cycle_s

@@ -18,19 +18,18 @@ a train on the profile is never even shown an indication.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import numbers
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 from functools import lru_cache
 from itertools import pairwise
 
 import numpy as np
 
 from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, curve_speeds_at
+from atcs.model.ops.floating import float_record
 from atcs.model.restrictions import as_float
 from atcs.model.train_data import NationalData, TrainData
 
@@ -190,18 +189,6 @@ def reference_profiles(stops_m: Sequence[float], ceiling_for: Callable[[float, f
         for a, b in pairwise(stops))
 
 
-def _float_value(value):
-    if isinstance(value, tuple):
-        return tuple(_float_value(v) for v in value)
-    return float(value) if isinstance(value, Fraction) else value
-
-
-def _float_record(record):
-    """Train or national data on floats (as the simulator runs the curves)."""
-    return dataclasses.replace(record, **{f.name: _float_value(getattr(record, f.name))
-                                          for f in dataclasses.fields(record)})
-
-
 def atp_ceiling(train_data: TrainData, national: NationalData, horizon: Horizon, *, a_est_mps2: float | None = None,
                 margin_mps: float = 0.5, curve: str = "indication",
                 tolerance_mps: float = 1e-4) -> Callable[[float], float]:
@@ -221,7 +208,7 @@ def atp_ceiling(train_data: TrainData, national: NationalData, horizon: Horizon,
     if margin < 0:
         raise ValueError(f"margin_mps must be >= 0, got {margin_mps!r}")
     _positive("tolerance_mps", tolerance_mps)
-    train_data, national = _float_record(train_data), _float_record(national)
+    train_data, national = float_record(train_data), float_record(national)
     horizon = Horizon(as_float(horizon.mrsp), as_float(horizon.gradient), float(horizon.eoa_m),
                       float(horizon.eoa_speed_mps))
     a_est = float(train_data.max_acceleration_mps2) if a_est_mps2 is None else _finite("a_est_mps2", a_est_mps2)

@@ -44,7 +44,7 @@ from atcs.model.doors import DOOR_LOOP, DcuState, DoorLoopInputs, DoorParams
 from atcs.model.dynamic_profile import Horizon, supervise_position
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
-from atcs.model.ops.floating import FLOAT
+from atcs.model.ops.floating import FLOAT, float_record, floats
 from atcs.model.plant import PlantParams, PlantState, gradient_braking_mps2, plant_admits
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
@@ -157,16 +157,6 @@ class TrainRun:
     """This cycle's values for the trace."""
 
 
-def _floats(value):
-    if isinstance(value, tuple):
-        return tuple(_floats(v) for v in value)
-    return float(value) if isinstance(value, Fraction) else value
-
-
-def _as_float(record):
-    return type(record)(**{f.name: _floats(getattr(record, f.name)) for f in dataclasses.fields(record)})
-
-
 class Simulation:
     """One scenario, stepped cycle by cycle (:meth:`step`) or to its end (:meth:`run`)."""
 
@@ -188,7 +178,7 @@ class Simulation:
         self.held = [[False] * resources for _ in self.trains]
         self.in_flight: set[int] = set()
         """The slots with a message on its way (up to the manager or down to the train)."""
-        self.platform_table = {k: _floats(v) for k, v in platform_inputs(scenario.platforms).items()}
+        self.platform_table = {k: floats(v) for k, v in platform_inputs(scenario.platforms).items()}
 
     @property
     def time_s(self) -> float:
@@ -228,14 +218,14 @@ class Simulation:
         restrictions = SpeedRestrictions(pisl, ptsl, length)
         stations = [j for j, st in enumerate(s.stations) if st.stop_m > spec.front_m]
         return TrainRun(
-            spec=spec, plant=_as_float(plant),
-            position=Monitor(POSITION, _as_float(pos), PositionState(False, 0.0, 0.0, 0.0)),
+            spec=spec, plant=float_record(plant),
+            position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0)),
             authority=AuthorityState(False, *(Fraction(0),) * 3), authority_params=authority,
             supervision=SupervisionState(eb_latched=True, sb_latched=False),
             front_m=float(spec.front_m), speed_mps=0.0, brake_cycles=float(plant.brake_build_up_cycles),
             restrictions=restrictions, mrsp=as_float(restrictions.mrsp()), gradient=as_float(compensated),
-            train_data=_as_float(d), national=_as_float(s.national),
-            tags_m=_floats(self.tags.positions_m), tag_ids=_floats(self.tags.ids), last_tag=first_tag,
+            train_data=float_record(d), national=float_record(s.national),
+            tags_m=floats(self.tags.positions_m), tag_ids=floats(self.tags.ids), last_tag=first_tag,
             door_params=DoorParams(float(spec.first_door_m), float(spec.last_door_m)),
             next_station=stations[0] if stations else len(s.stations),
         )

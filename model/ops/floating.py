@@ -6,6 +6,8 @@ and arrays mix by broadcasting. Used by the simulator and the benchmarks.
 
 from __future__ import annotations
 
+import dataclasses
+from fractions import Fraction
 from functools import reduce
 
 import numpy as np
@@ -118,3 +120,15 @@ class FloatOps:
 
 
 FLOAT = FloatOps()
+
+
+def floats(value):
+    """An exact number (or a tuple of them, nested) as float(s), for the float backend; anything else as it is."""
+    if isinstance(value, tuple):
+        return tuple(floats(v) for v in value)
+    return float(value) if isinstance(value, Fraction) else value
+
+
+def float_record(record):
+    """A frozen dataclass (train data, parameters) with its exact numbers as floats."""
+    return dataclasses.replace(record, **{f.name: floats(getattr(record, f.name)) for f in dataclasses.fields(record)})
