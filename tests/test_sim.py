@@ -336,6 +336,27 @@ class TestFaults:
         assert all(r["speed_kmh"] == 0 and not r["traction"] for r in opened)
         assert records[-1][0]["speed_kmh"] > 0  # and the train departed
 
+    @pytest.mark.parametrize(("line", "message"), [
+        (STATION.replace("stop_m = 2410", "stop_m = 3000"), "stations[0].stop_m = 3000: no platform of [platforms]"),
+        (STATION.replace("dwell_s = 20", "dwell_s = -1"), "stations[0].dwell_s = -1 must be at least 0"),
+        ("[[restrictions]]\nstart_m = 500\nend_m = 400\nkmh = 30", "restrictions[0].end_m = 400 must lie after"),
+        ("[[restrictions]]\nstart_m = 500\nend_m = 900\nkmh = 0", "restrictions[0].kmh = 0 must be positive"),
+        ("[[manager_outages]]\nfrom_s = 30\nuntil_s = 10", "manager_outages[0].until_s = 10 must be after"),
+    ])
+    def test_stations_restrictions_and_outages_are_checked(self, tmp_path, line, message):
+        path = tmp_path / "bad.toml"
+        path.write_text(FAULT_LINE.format(leader="", line=line, duration_s=10))
+        with pytest.raises(ScenarioError) as caught:
+            load_scenario(path)
+        assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+    def test_a_stop_tolerance_within_the_tag_window_is_refused(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(FAULT_LINE.format(leader="", line=STATION, duration_s=10).replace(
+            "stop_tolerance_m = 3", "stop_tolerance_m = 2"))
+        with pytest.raises(ScenarioError, match=r"atp\.stop_tolerance_m = 2 must exceed atp\.tag_window_m = 5/2"):
+            load_scenario(path)
+
     def test_fault_fields_are_checked(self, tmp_path):
         for fault, message in [
             ('{ kind = "tacho_drift", from_s = 0 }', "faults[0].factor is missing"),
