@@ -9,6 +9,8 @@ zones, platforms), the ATP and ATO settings, and the trains in order from the fr
 
 from __future__ import annotations
 
+import dataclasses
+import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -26,6 +28,7 @@ from atcs.model.train_data import (
     seed002_train,
     subset026_national,
 )
+from atcs.sim.double_track import TRACKS, DoubleTrack
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
 PRESETS = {"seed000": seed000_train, "seed002": seed002_train}
@@ -85,6 +88,8 @@ class Window:
 
     from_s: Fraction
     until_s: Fraction | None
+    zone: int | None = None
+    """The wayside zone whose manager is out (1, 2, ...; None: every zone's)."""
 
     active_at = Zone.active_at
 
@@ -166,6 +171,13 @@ class Scenario:
     manager_outages: tuple[Window, ...] = ()
     ato_reference_profile: bool = False
     """The ATO tracks the minimum-time profile to the next station stop (:mod:`atcs.sim.reference_profile`)."""
+    double_track: DoubleTrack | None = None
+    """The double track with its turn-backs, one closed track of :attr:`line_m` (:mod:`atcs.sim.double_track`);
+    None: an open line from 0 to :attr:`line_m`. Every position of the scenario is in loop coordinates."""
+
+    @property
+    def loop(self) -> bool:
+        return self.double_track is not None
 
 
 class _Reader:
@@ -250,17 +262,34 @@ def _window(r: _Reader) -> tuple[Fraction, Fraction | None]:
     return start, until
 
 
-def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | None) -> TrainSpec:
-    r = _Reader(source, row, f"trains[{j}]", ("name", "preset", "front_m", "max_speed_kmh", "depart_s", "faults",
-                                               "eb_release_after_stop_s", "first_door_m", "last_door_m"))
+def _track(r: _Reader, layout: DoubleTrack | None) -> str:
+    """The row's ``track`` (``up`` unless it says ``down``); only a double track has one."""
+    return r.text("track", "up", TRACKS) if layout is not None else "up"
+
+
+def _row_fields(layout: DoubleTrack | None, *fields: str) -> tuple[str, ...]:
+    return (*fields, "track") if layout is not None else fields
+
+
+def _train(source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | None,
+           tag_spacing_m: Fraction) -> TrainSpec:
+    r = _Reader(source, row, f"trains[{j}]", _row_fields(
+        layout, "name", "preset", "front_m", "max_speed_kmh", "depart_s", "faults", "eb_release_after_stop_s",
+        "first_door_m", "last_door_m"))
     name = r.text("name", f"T{j + 1}")
     data = PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
+    track = _track(r, layout)
     front = r.number("front_m", minimum=0)
-    if front - data.train_length_m < 0 or front >= line_m:
+    front_loop = layout.point(track, front) if layout is not None else front
+    if front >= length_m or (layout is None and front - data.train_length_m < 0):
         r.fail("front_m", f"must put the whole train on the line (its length is {data.train_length_m} m, the line "
-               f"{line_m} m)")
-    if previous is not None and front >= previous.front_m - previous.data.train_length_m:
-        r.fail("front_m", f"must be behind the rear of {previous.name} (trains are listed from the front)")
+               f"{length_m} m)")
+    if layout is not None and front_loop - data.train_length_m < 0:
+        r.fail("front_m", f"must put the whole train on the loop: its rear ({data.train_length_m} m behind) would "
+               "be round the near turn-back, behind the loop's origin (x = 0 on the up track)")
+    if front % tag_spacing_m:
+        r.fail("front_m", f"must be on a tag (a multiple of line.tag_spacing_m = {tag_spacing_m}): a train powers up "
+               "on a tag and reads it in its first cycle")
     faults = []
     for k, fault in enumerate(r.rows("faults")):
         where = f"{r.name('faults')}[{k}]"
@@ -278,11 +307,83 @@ def _train(source: str, row, j: int, line_m: Fraction, previous: TrainSpec | Non
         r.fail("last_door_m", f"must lie from first_door_m ({first_door} m) to the train's length "
                f"({data.train_length_m} m)")
     return TrainSpec(
-        name=name, data=data, front_m=front, max_speed_kmh=r.number("max_speed_kmh", positive=True),
+        name=name, data=data, front_m=front_loop, max_speed_kmh=r.number("max_speed_kmh", positive=True),
         depart_s=r.number("depart_s", 0, minimum=0), faults=tuple(faults),
         eb_release_after_stop_s=r.optional_number("eb_release_after_stop_s", minimum=0),
         first_door_m=first_door, last_door_m=last_door,
     )
+
+
+def _trains_in_order(source: str, trains: list[TrainSpec], layout: DoubleTrack | None) -> tuple[TrainSpec, ...]:
+    """The trains from the front. On an open line they must be listed so; on the loop of a double track the front
+    train is the one farthest along the loop, and its leader is the last (round the near turn-back)."""
+    if layout is not None:
+        trains = sorted(trains, key=lambda t: -t.front_m)
+    for j, (ahead, train) in enumerate(itertools.pairwise(trains), start=1):
+        rear = ahead.front_m - ahead.data.train_length_m
+        if train.front_m >= rear and layout is None:
+            raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be behind the rear of "
+                                f"{ahead.name} ({rear} m; trains are listed from the front)")
+        if train.front_m >= rear:
+            raise ScenarioError(f"{source}: trains: {train.name} (front at {train.front_m} m round the loop) "
+                                f"overlaps {ahead.name} (rear at {rear} m)")
+    if layout is not None and len(trains) > 1:
+        first, last = trains[0], trains[-1]
+        if first.front_m >= last.front_m - last.data.train_length_m + layout.loop_m:
+            raise ScenarioError(f"{source}: trains: {first.name} (front at {first.front_m} m) overlaps {last.name} "
+                                f"round the near turn-back (its rear at {last.front_m - last.data.train_length_m} m"
+                                f" + the loop's {layout.loop_m} m)")
+    return tuple(trains)
+
+
+def _double_track(line: _Reader, length_m: Fraction, tag_spacing_m: Fraction,
+                  resource_length_m: Fraction) -> DoubleTrack | None:
+    flag = line.table.get("double_track", False)
+    if not isinstance(flag, bool):
+        line.fail("double_track", "must be true or false")
+    own = ("turn_back_m", "turn_back_kmh", "wayside_zone_boundaries_m")
+    if not flag:
+        for key in own:
+            if key in line.table:
+                line.fail(key, "needs line.double_track = true")
+        return None
+    turn_back = line.number("turn_back_m", positive=True)
+    for key, value in (("length_m", length_m), ("turn_back_m", turn_back)):
+        for spacing_key, spacing in (("tag_spacing_m", tag_spacing_m), ("resource_length_m", resource_length_m)):
+            if value % spacing:
+                line.fail(key, f"must be a multiple of line.{spacing_key} = {spacing} on a double track, so that "
+                          "the tags and resources of both tracks repeat round the loop")
+    raw = line.table.get("wayside_zone_boundaries_m", [])
+    if not isinstance(raw, list):
+        line.fail("wayside_zone_boundaries_m", "must be a list of positions along the line")
+    boundaries = []
+    for j, value in enumerate(raw):
+        b = parse_number(line.source, f"line.wayside_zone_boundaries_m[{j}]", value, ScenarioError)
+        if not (boundaries[-1] if boundaries else 0) < b < length_m:
+            raise ScenarioError(f"{line.source}: line.wayside_zone_boundaries_m[{j}] = {value!r} must lie inside the "
+                                f"line (0 to {length_m} m) and after the previous boundary")
+        boundaries.append(b)
+    return DoubleTrack(length_m, turn_back, tuple(boundaries))
+
+
+def _mirrored_stations(source: str, stations: list[Station], platforms: tuple[Platform, ...],
+                       layout: DoubleTrack) -> tuple[tuple[Station, ...], tuple[Platform, ...]]:
+    """The stations and platforms of both tracks, in loop order: those given (the up track), then their mirror on
+    the down track. A down train stops with its doors where an up train's are, mirrored about the platform."""
+    down = []
+    for j, station in enumerate(stations):
+        spanning = [p for p in platforms if p.start_m <= station.stop_m <= p.end_m]
+        if not spanning:
+            raise ScenarioError(f"{source}: stations[{j}].stop_m = {station.stop_m}: no platform of [platforms] "
+                                "contains it, so it has no mirror on the down track")
+        p = spanning[0]
+        down.append(Station(f"{station.name} (down)", layout.point("down", p.start_m + p.end_m - station.stop_m),
+                            station.dwell_s))
+    mirrored = []
+    for p in platforms:
+        start, end = layout.interval("down", p.start_m, p.end_m)
+        mirrored.append(dataclasses.replace(p, start_m=start, end_m=end))
+    return (*stations, *reversed(down)), (*platforms, *reversed(mirrored))
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -296,8 +397,23 @@ def load_scenario(path: str | Path) -> Scenario:
         if key not in document:
             raise ScenarioError(f"{source}: [{key}] is missing")
     line = _Reader(source, document["line"], "line", ("length_m", "tag_spacing_m", "resource_length_m",
-                                                       "speed_limits", "gradients", "max_ma_m"))
-    line_m = line.number("length_m", positive=True)
+                                                       "speed_limits", "gradients", "max_ma_m", "double_track",
+                                                       "turn_back_m", "turn_back_kmh", "wayside_zone_boundaries_m"))
+    length_m = line.number("length_m", positive=True)
+    tag_spacing_m = line.number("tag_spacing_m", positive=True)
+    resource_length_m = line.number("resource_length_m", positive=True)
+    if tag_spacing_m > length_m or resource_length_m > length_m:
+        raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
+    layout = _double_track(line, length_m, tag_spacing_m, resource_length_m)
+    line_m = layout.loop_m if layout is not None else length_m
+    speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
+    gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
+    if layout is not None:
+        turn_back_kmh = line.number("turn_back_kmh", positive=True)
+        speed_limits = tuple(Segment(*x) for x in zip(*layout.segments(
+            [g.start_m for g in speed_limits], [g.value for g in speed_limits], turn_back_kmh), strict=True))
+        gradients = tuple(Segment(*x) for x in zip(*layout.segments(
+            [g.start_m for g in gradients], [g.value for g in gradients], Fraction(0), negate=True), strict=True))
     atp = _Reader(source, document["atp"], "atp", ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m",
                                                     "tacho_error", "national", "stop_tolerance_m"))
     ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh",
@@ -311,63 +427,63 @@ def load_scenario(path: str | Path) -> Scenario:
     rows = top.rows("trains")
     if not rows:
         raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
-    trains: list[TrainSpec] = []
-    for j, row in enumerate(rows):
-        trains.append(_train(source, row, j, line_m, trains[-1] if trains else None))
+    trains = _trains_in_order(source, [_train(source, row, j, length_m, layout, tag_spacing_m)
+                                       for j, row in enumerate(rows)], layout)
     zones = []
     for j, row in enumerate(top.rows("zones")):
-        z = _Reader(source, row, f"zones[{j}]", ("start_m", "from_s", "until_s"))
+        z = _Reader(source, row, f"zones[{j}]", _row_fields(layout, "start_m", "from_s", "until_s"))
         start = z.number("start_m", minimum=0)
-        if start > line_m:
-            z.fail("start_m", f"must be on the line ({line_m} m)")
-        zones.append(Zone(start, *_window(z)))
+        if start > length_m:
+            z.fail("start_m", f"must be on the line ({length_m} m)")
+        zones.append(Zone(layout.point(_track(z, layout), start) if layout else start, *_window(z)))
     try:
         platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
     except PlatformDataError as exc:
         raise ScenarioError(str(exc)) from None
     restrictions = []
     for j, row in enumerate(top.rows("restrictions")):
-        x = _Reader(source, row, f"restrictions[{j}]", ("start_m", "end_m", "kmh", "from_s", "until_s"))
+        x = _Reader(source, row, f"restrictions[{j}]", _row_fields(layout, "start_m", "end_m", "kmh", "from_s",
+                                                                    "until_s"))
         start, end = x.number("start_m", minimum=0), x.number("end_m")
-        if not start < end <= line_m:
-            x.fail("end_m", f"must lie after start_m ({start} m) and on the line ({line_m} m)")
+        if not start < end <= length_m:
+            x.fail("end_m", f"must lie after start_m ({start} m) and on the line ({length_m} m)")
+        if layout is not None:
+            start, end = layout.interval(_track(x, layout), start, end)
         restrictions.append(TimedRestriction(start, end, x.number("kmh", positive=True), *_window(x)))
     stations = []
     for j, row in enumerate(top.rows("stations")):
         x = _Reader(source, row, f"stations[{j}]", ("name", "stop_m", "dwell_s"))
         stop = x.number("stop_m", positive=True)
-        if stop > line_m or (stations and stop <= stations[-1].stop_m):
-            x.fail("stop_m", f"must be on the line ({line_m} m) and after the previous station's stop")
+        if stop > length_m or (stations and stop <= stations[-1].stop_m):
+            x.fail("stop_m", f"must be on the line ({length_m} m) and after the previous station's stop")
         stations.append(Station(x.text("name", f"S{j + 1}"), stop, x.number("dwell_s", minimum=0)))
+    if layout is not None:
+        stations, platforms = _mirrored_stations(source, stations, platforms, layout)
+    zone_count = layout.zones if layout is not None else 1
     outages = []
     for j, row in enumerate(top.rows("manager_outages")):
-        outages.append(Window(*_window(_Reader(source, row, f"manager_outages[{j}]", ("from_s", "until_s")))))
+        w = _Reader(source, row, f"manager_outages[{j}]", ("from_s", "until_s", "zone"))
+        zone = w.optional_number("zone", minimum=1)
+        if zone is not None and (zone.denominator != 1 or zone > zone_count):
+            w.fail("zone", f"must be a wayside zone, a whole number from 1 to {zone_count}")
+        outages.append(Window(*_window(w), None if zone is None else int(zone)))
     scenario = Scenario(
         name=top.text("name"), seed=top.text("seed"), description=top.text("description", ""), source=source,
         duration_s=top.number("duration_s", positive=True), cycle_s=top.number("cycle_s", "0.1", positive=True),
-        line_m=line_m, tag_spacing_m=line.number("tag_spacing_m", positive=True),
-        resource_length_m=line.number("resource_length_m", positive=True),
-        speed_limits_kmh=_segments(line, "speed_limits", "kmh", Fraction(80), line_m, positive=True),
-        gradients_permille=_segments(line, "gradients", "permille", Fraction(0), line_m, positive=False),
+        line_m=line_m, tag_spacing_m=tag_spacing_m, resource_length_m=resource_length_m,
+        speed_limits_kmh=speed_limits, gradients_permille=gradients,
         max_ma_m=line.number("max_ma_m", positive=True),
         brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
         safety_margin_m=atp.number("safety_margin_m", minimum=0),
         report_timeout_s=atp.number("report_timeout_s", positive=True),
         tag_window_m=atp.number("tag_window_m", minimum=0), tacho_error=tacho_error,
         planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
-        ato_margin_m=ato.number("margin_m", minimum=0), trains=tuple(trains), zones=tuple(zones),
-        platforms=platforms, national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
+        ato_margin_m=ato.number("margin_m", minimum=0), trains=trains, zones=tuple(zones),
+        platforms=tuple(platforms), national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
         ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0), restrictions=tuple(restrictions),
         stations=tuple(stations), stop_tolerance_m=atp.number("stop_tolerance_m", 1, positive=True),
-        manager_outages=tuple(outages), ato_reference_profile=reference,
+        manager_outages=tuple(outages), ato_reference_profile=reference, double_track=layout,
     )
-    if scenario.tag_spacing_m > line_m or scenario.resource_length_m > line_m:
-        raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
-    for j, train in enumerate(scenario.trains):
-        if train.front_m % scenario.tag_spacing_m:
-            raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be on a tag (a multiple of "
-                                f"line.tag_spacing_m = {scenario.tag_spacing_m}): a train powers up on a tag and "
-                                "reads it in its first cycle")
     if scenario.ato_reference_profile and not scenario.stations:
         raise ScenarioError(f"{source}: ato.reference_profile = true needs [[stations]]: the profile runs from stop "
                             "to stop")
@@ -375,13 +491,16 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{source}: atp.stop_tolerance_m = {scenario.stop_tolerance_m} must exceed "
                             f"atp.tag_window_m = {scenario.tag_window_m}: the position interval is at least "
                             "the tag window either side, so the doors could never be enabled at a station")
+    given = len(top.rows("stations"))
     for j, station in enumerate(scenario.stations):
-        for k, train in enumerate(scenario.trains):
+        where = f"stations[{j}].stop_m =" if j < given else \
+            f"stations[{2 * given - 1 - j}].stop_m, mirrored on the down track to"
+        for train in scenario.trains:
             tolerance = scenario.stop_tolerance_m  # the doors wherever the front is within it
             doors = (station.stop_m - tolerance - train.last_door_m, station.stop_m + tolerance - train.first_door_m)
-            if not any(p.start_m <= doors[0] and doors[1] <= p.end_m for p in platforms):
-                raise ScenarioError(f"{source}: stations[{j}].stop_m = {station.stop_m}: no platform of [platforms] "
-                                    f"spans trains[{k}]'s doors there ({doors[0]} m to {doors[1]} m)")
+            if not any(p.start_m <= doors[0] and doors[1] <= p.end_m for p in scenario.platforms):
+                raise ScenarioError(f"{source}: {where} {station.stop_m}: no platform of [platforms] spans "
+                                    f"{train.name}'s doors there ({doors[0]} m to {doors[1]} m)")
     return scenario
 
 

@@ -28,6 +28,7 @@ of a protection zone or the line's end (:class:`SafetyViolation`).
 
 from __future__ import annotations
 
+import bisect
 import csv
 import dataclasses
 import io
@@ -125,8 +126,9 @@ class TrainRun:
     train_data: TrainData
     """Float, for the curves."""
     national: NationalData
-    tags_m: tuple[float, ...]
-    tag_ids: tuple[float, ...]
+    tag_base: int = 0
+    """The index (in :attr:`Simulation.tag_positions_m`) where the train's tag table starts: its position node's
+    tag indices count from it. On a loop the table is one lap of tags, moved on as the train runs round."""
     last_distance_m: float = 0.0
     last_tacho_m: float = 0.0
     """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
@@ -165,20 +167,42 @@ class Simulation:
         self.dt = float(scenario.cycle_s)
         self.step_count = 0
         line = scenario.line_m
-        self.resource_starts = _grid(Fraction(0), line, scenario.resource_length_m)
+        self.laps = _laps(scenario)
+        """How many times round the loop the route is laid out (1: an open line). Positions on a loop are unrolled
+        (lap ``n`` from ``n * line_m``), so that the step functions see a line; a resource or a tag is the same on
+        every lap."""
+        self.route_end_m = line * self.laps
+        lap_starts, lap_ends = _grid(Fraction(0), line, scenario.resource_length_m)
+        self.resources_per_lap = resources = len(lap_starts)
+        self.resource_starts = tuple(tuple(x + n * line for n in range(self.laps) for x in column)
+                                     for column in (lap_starts, lap_ends))
         self.resource_floats = tuple(tuple(float(x) for x in column) for column in self.resource_starts)
-        tag_positions = _grid(Fraction(0), line, scenario.tag_spacing_m)[0]
-        self.tags = tag_table(scenario.source, range(1, len(tag_positions) + 1), tag_positions)
+        layout = scenario.double_track
+        self.resource_zone = tuple(layout.zone(x) if layout is not None else 1 for x in lap_starts)
+        """The wayside zone whose manager handles each resource."""
+        lap_tags = _grid(Fraction(0), line, scenario.tag_spacing_m)[0]
+        self.tags = tag_table(scenario.source, range(1, len(lap_tags) + 1), lap_tags)
+        laid = range(self.laps + 1) if scenario.loop else range(1)  # a lap more: the last table reaches it
+        self.tag_positions_m = tuple(float(x + n * line) for n in laid for x in lap_tags)
+        self.tag_ids = tuple(float(i) for _ in laid for i in self.tags.ids)
+        self.stops = tuple(dataclasses.replace(st, stop_m=st.stop_m + n * line)
+                           for n in range(self.laps) for st in scenario.stations)
+        """Every station stop in the order a train meets them (on a loop, lap after lap)."""
+        self.platforms = tuple(dataclasses.replace(p, start_m=p.start_m + n * line, end_m=p.end_m + n * line)
+                               for n in range(self.laps) for p in scenario.platforms)
+        self.door_tables = tuple(self._door_table(stop) for stop in self.stops)
+        """The platform table the door loop gets on the way to each stop: the platforms there."""
+        self.no_platforms = {k: floats(v) for k, v in platform_inputs((), capacity=1).items()}
         self.trains = [self._train(spec) for spec in scenario.trains]
-        resources = len(self.resource_starts[0])
         slots = resources * len(self.trains)
         self.resource_state = ([0.0] * resources, [0.0] * slots, [0.0] * slots, [0.0] * slots)
         """The resource manager's state (owner, holding, up, down, as in :class:`ResourceState`), updated in
         place."""
         self.held = [[False] * resources for _ in self.trains]
+        """Each train's resources held (by resource, as on the first lap)."""
+        self.held_sets: list[set[int]] = [set() for _ in self.trains]
         self.in_flight: set[int] = set()
         """The slots with a message on its way (up to the manager or down to the train)."""
-        self.platform_table = {k: floats(v) for k, v in platform_inputs(scenario.platforms).items()}
 
     @property
     def time_s(self) -> float:
@@ -188,35 +212,33 @@ class Simulation:
         s, d = self.scenario, spec.data
         starts, ends = self.resource_starts
         data = preset_data(d, s.national, cycle_s=s.cycle_s)
+        first_tag = self.tag_positions_m.index(float(spec.front_m))  # powered up on a tag: read in the first cycle
         length = d.train_length_m
-        pisl = Profile(tuple(g.start_m for g in s.speed_limits_kmh),
-                       tuple(g.value / KMH_PER_MPS for g in s.speed_limits_kmh),
-                       s.line_m)
-        ptsl = Profile((Fraction(0),), (spec.max_speed_kmh / KMH_PER_MPS,), s.line_m)
-        gradient = Profile(tuple(g.start_m for g in s.gradients_permille),
-                           tuple(g.value for g in s.gradients_permille), s.line_m)
+        pisl = self._laid_out(s.speed_limits_kmh, KMH_PER_MPS)
+        ptsl = Profile((Fraction(0),), (spec.max_speed_kmh / KMH_PER_MPS,), self.route_end_m)
+        gradient = self._laid_out(s.gradients_permille, 1)
         compensated = extend_by_train_length(EXACT, gradient, length)
         plant = PlantParams(
-            gradient_starts_m=compensated.starts_m, gradient_permille=compensated.values, line_end_m=s.line_m,
+            gradient_starts_m=compensated.starts_m, gradient_permille=compensated.values, line_end_m=self.route_end_m,
             **{k: data[k] for k in ("rotating_mass_uphill_percent", "rotating_mass_downhill_percent",
                                     "max_acceleration_mps2", "guaranteed_deceleration_mps2",
                                     "max_deceleration_mps2", "cycle_s", "traction_cut_cycles",
                                     "brake_build_up_cycles")},
         )
-        pos = position_params(self.tags, tag_window_m=s.tag_window_m, tacho_error=s.tacho_error,
+        table = self._tag_window(first_tag) if s.loop else self.tags
+        pos = position_params(table, tag_window_m=s.tag_window_m, tacho_error=s.tacho_error,
                               train_length_m=length, cycle_s=s.cycle_s,
                               max_acceleration_mps2=plant.max_acceleration_mps2 + Fraction(1, 2),
                               max_deceleration_mps2=plant.max_deceleration_mps2)
         authority = AuthorityParams(
             resource_start_m=starts, resource_end_m=ends, resource_is_switch=(False,) * len(starts),
-            switch_needs_reverse=(False,) * len(starts), line_end_m=s.line_m, max_ma_m=s.max_ma_m,
+            switch_needs_reverse=(False,) * len(starts), line_end_m=self.route_end_m, max_ma_m=s.max_ma_m,
             leader_max_deceleration_mps2=max(t.data.emergency_decelerations_mps2[0] for t in s.trains) + 1,
             safety_margin_m=s.safety_margin_m, report_timeout_s=s.report_timeout_s, brick_wall=s.brick_wall,
             cycle_s=s.cycle_s,
         )
-        first_tag = self.tags.positions_m.index(spec.front_m)  # powered up on a tag: read in the first cycle
         restrictions = SpeedRestrictions(pisl, ptsl, length)
-        stations = [j for j, st in enumerate(s.stations) if st.stop_m > spec.front_m]
+        stations = [j for j, st in enumerate(self.stops) if st.stop_m > spec.front_m]
         return TrainRun(
             spec=spec, plant=float_record(plant),
             position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0)),
@@ -225,10 +247,42 @@ class Simulation:
             front_m=float(spec.front_m), speed_mps=0.0, brake_cycles=float(plant.brake_build_up_cycles),
             restrictions=restrictions, mrsp=as_float(restrictions.mrsp()), gradient=as_float(compensated),
             train_data=float_record(d), national=float_record(s.national),
-            tags_m=floats(self.tags.positions_m), tag_ids=floats(self.tags.ids), last_tag=first_tag,
+            tag_base=first_tag if s.loop else 0, last_tag=first_tag,
             door_params=DoorParams(float(spec.first_door_m), float(spec.last_door_m)),
-            next_station=stations[0] if stations else len(s.stations),
+            next_station=stations[0] if stations else len(self.stops),
         )
+
+    def _laid_out(self, segments, unit) -> Profile:
+        """A line profile (``value / unit`` from each segment's start) over the whole route, lap after lap."""
+        line = self.scenario.line_m
+        return Profile(tuple(g.start_m + n * line for n in range(self.laps) for g in segments),
+                       tuple(g.value / unit for _ in range(self.laps) for g in segments), self.route_end_m)
+
+    def _tag_window(self, base: int):
+        """One lap of tags from index ``base`` (ids as on the track, positions unrolled): a loop train's tag
+        table."""
+        n = len(self.tags)
+        return tag_table(self.scenario.source, self.tag_ids[base:base + n],
+                         [Fraction(x) for x in self.tag_positions_m[base:base + n]])
+
+    def _move_tag_table(self, train: TrainRun) -> None:
+        """On a loop, once a train is half way through its tag table, the table moves on to start at its last
+        relevant tag, and the position state's tag index with it (the same tag, the same position)."""
+        state, n = train.position.state, len(self.tags)
+        j = int(state.lrt_index)
+        if not self.scenario.loop or j < n // 2:
+            return
+        b = train.tag_base = train.tag_base + j
+        train.position.params = dataclasses.replace(train.position.params, tag_ids=self.tag_ids[b:b + n],
+                                                    tag_positions_m=self.tag_positions_m[b:b + n])
+        train.position.state = dataclasses.replace(state, lrt_index=0.0)
+
+    def _door_table(self, stop) -> dict:
+        """The door loop's platform table on the way to ``stop``: the platforms that reach within a train's
+        length and the stop tolerance of its stopping point."""
+        reach = max(t.data.train_length_m for t in self.scenario.trains) + self.scenario.stop_tolerance_m
+        near = [p for p in self.platforms if p.end_m >= stop.stop_m - reach and p.start_m <= stop.stop_m + reach]
+        return {k: floats(v) for k, v in platform_inputs(near, capacity=max(len(near), 1)).items()}
 
     # --- one cycle ---------------------------------------------------------------------------------------
 
@@ -238,33 +292,46 @@ class Simulation:
         sends, reports = set(), []
         count = len(self.resource_state[0])
         for k, train in enumerate(self.trains):
-            leader = self.trains[k - 1] if k else None
-            train_sends, report = self._onboard(train, leader, self.held[k], t)
+            train_sends, report = self._onboard(train, *self._leader(k), k, t)
             sends.update(k * count + r for r in train_sends)
             reports.append(report)
         for train, report in zip(self.trains, reports, strict=True):
             self._send_report(train, report, t)
-        outage = any(w.active_at(t) for w in self.scenario.manager_outages)
-        self._manage(sends, deliver=not outage)
+        out = {w.zone for w in self.scenario.manager_outages if w.active_at(t)}
+        self._manage(sends, deliver=lambda r: None not in out and self.resource_zone[r] not in out)
         self.step_count += 1
         self._check()
         if self.on_cycle is not None:
             self.on_cycle(self)
 
+    def _leader(self, k: int) -> tuple[TrainRun | None, float]:
+        """Train ``k``'s leader and how far ahead the leader's coordinates are to be taken: on a loop the front
+        train's leader is the last one, a lap on."""
+        if k:
+            return self.trains[k - 1], 0.0
+        return (self.trains[-1], float(self.scenario.line_m)) if self.scenario.loop else (None, 0.0)
+
     def _restrictions(self, t: float) -> None:
         """The ATS's temporary restrictions: each train's MRSP is updated where one comes into force or ends
         (seed 002 §3.2's incremental update, :class:`~atcs.model.restrictions.SpeedRestrictions`)."""
+        line = self.scenario.line_m
         for j, r in enumerate(self.scenario.restrictions):
-            name, active = f"restriction {j}", r.active_at(t)
+            active = r.active_at(t)
             for train in self.trains:
-                applied = name in train.restrictions.active
-                if active and not applied:
-                    train.restrictions.apply(name, Restriction(r.start_m, r.end_m, r.kmh / KMH_PER_MPS))
-                elif applied and not active:
-                    train.restrictions.withdraw(name)
-                else:
-                    continue
-                train.mrsp = as_float(train.restrictions.mrsp())
+                changed = False
+                for n in range(self.laps):
+                    name = f"restriction {j}" + (f", lap {n}" if n else "")
+                    applied = name in train.restrictions.active
+                    if active and not applied:
+                        train.restrictions.apply(name, Restriction(r.start_m + n * line, r.end_m + n * line,
+                                                                   r.kmh / KMH_PER_MPS))
+                    elif applied and not active:
+                        train.restrictions.withdraw(name)
+                    else:
+                        continue
+                    changed = True
+                if changed:
+                    train.mrsp = as_float(train.restrictions.mrsp())
 
     def _send_report(self, train: TrainRun, report, t: float) -> None:
         """The T2T report, delivered to the follower in the next cycle (later under ``t2t_delay``, never under
@@ -277,7 +344,7 @@ class Simulation:
         train.outbox = [(step, r) for step, r in train.outbox if step > self.step_count + 1]
         train.report = due[-1] if due else None
 
-    def _manage(self, sends: set[int], *, deliver: bool = True) -> None:
+    def _manage(self, sends: set[int], *, deliver: Callable[[int], bool] = lambda r: True) -> None:
         """The resource manager's step (:data:`~atcs.model.resources.RESOURCES`, its properties checked), one
         resource at a time, on the slots with anything to do (a send, or a message in flight) and the owner's.
 
@@ -285,8 +352,9 @@ class Simulation:
         resources never interact, and an idle slot (nothing sent, nothing in flight) stays as it is and leaves
         the owner as it is; a resource's slots are handled in train order, as here. The owner codes are
         renumbered for the trains taken. An idle slot of a train other than the owner is free, quiet and not
-        the owner's, so the properties hold of it trivially. In an outage (``deliver`` false) no message reaches
-        the manager or a train. ``sends``: the slots (train * resources + resource) whose train sends."""
+        the owner's, so the properties hold of it trivially. In an outage of a resource's manager (``deliver(r)``
+        false) no message about it reaches the manager or a train. ``sends``: the slots (train * resources +
+        resource) whose train sends."""
         owner, holding, up, down = self.resource_state
         count = len(owner)
         busy: dict[int, set[int]] = {}
@@ -301,7 +369,7 @@ class Simulation:
             code = {0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}}
             part = ResourceState(owner=(code[owner[r]],), holding=tuple(holding[j] for j in slots),
                                  up=tuple(up[j] for j in slots), down=tuple(down[j] for j in slots))
-            every = (deliver,) * len(slots)
+            every = (deliver(r),) * len(slots)
             inputs = ResourceInputs(send=tuple(j in sends for j in slots), deliver_up=every, deliver_down=every)
             nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
             owner[r] = float(trains[int(nxt.owner[0]) - 1] + 1) if nxt.owner[0] else 0.0
@@ -312,13 +380,15 @@ class Simulation:
                 else:
                     self.in_flight.discard(j)
                 self.held[k][r] = bool(out.held[q])
+                (self.held_sets[k].add if out.held[q] else self.held_sets[k].discard)(r)
 
-    def _onboard(self, train: TrainRun, leader: TrainRun | None, held, t: float):
-        """One cycle of one train's onboard functions and its plant: returns (the resources it sends a request or
+    def _onboard(self, train: TrainRun, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
+        """One cycle of train ``k``'s onboard functions and its plant: returns (the resources it sends a request or
         release for, the T2T report it sends)."""
-        o, s, spec, data = FLOAT, self.scenario, train.spec, train.spec.data
+        o, spec, data = FLOAT, train.spec, train.spec.data
+        self._move_tag_table(train)
         tag = None if spec.fault("missed_tag", t) else train.last_tag
-        tag_id = train.tag_ids[tag] if tag is not None else 0.0
+        tag_id = self.tag_ids[tag] if tag is not None else 0.0
         spurious = spec.fault("spurious_tag", t)
         if spurious is not None:
             tag, tag_id = -1, float(spurious.value)
@@ -327,16 +397,19 @@ class Simulation:
         if pos.position_valid and not inside and not any(f.kind in SENSOR_FAULTS for f in spec.faults):
             raise SafetyViolation(f"the true front {train.front_m:.3f} m is outside the position interval "
                                   f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m", spec.name, self.step_count, t)
-        zones = [float(z.start_m) for z in s.zones if z.active_at(t)]
+        zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
         report = leader.report if leader is not None else None
+        if report is not None and leader_ahead_m:
+            report = (report[0] + leader_ahead_m, report[1])
         # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
         # float rounding of a stopping point would break them by an ulp)
-        lo, hi = self._window(train, pos, held)
+        lo, hi = self._window(train, pos, k)
         window = dataclasses.replace(train.authority_params, **{
             name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS})
-        n = hi - lo
+        n, held, count = hi - lo, self.held[k], self.resources_per_lap
         train.authority, auth = check_step(AUTHORITY, window, train.authority, AuthorityInputs(
-            front_max_m=Fraction(pos.front_max_m), rear_min_m=Fraction(pos.rear_min_m), held=tuple(held[lo:hi]),
+            front_max_m=Fraction(pos.front_max_m), rear_min_m=Fraction(pos.rear_min_m),
+            held=tuple(held[i % count] for i in range(lo, hi)),
             switch_locked=(True,) * n, switch_reversed=(False,) * n, report_delivered=report is not None,
             report_rear_m=Fraction(report[0] if report else 0), report_speed_mps=Fraction(report[1] if report else 0),
             zone_active=bool(zones), zone_start_m=Fraction(min(zones) if zones else 0)),
@@ -385,7 +458,7 @@ class Simulation:
         }
         report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid \
             else None
-        sends = [lo + q for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
+        sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
 
     def _ato(self, train: TrainRun, pos, eoa_m: float, curves, departed: bool, traction_cut: bool):
@@ -411,7 +484,7 @@ class Simulation:
         service_max = float(spec.data.service_decelerations_mps2[0])
         lookahead_m = speed * ATO_LOOKAHEAD_S
         past_indication = pos.front_max_m + lookahead_m >= curves.indication_m
-        station = s.stations[train.next_station] if train.next_station < len(s.stations) else None
+        station = self.stops[train.next_station] if train.next_station < len(self.stops) else None
         # the station stop: the estimated front brought to a stop at the stopping point
         to_stop_m = float(station.stop_m) - pos.front_est_m if station is not None else math.inf
         station_braking = to_stop_m <= speed * speed / (2 * planning_mps2) + STATION_CREEP_M
@@ -442,31 +515,46 @@ class Simulation:
             ato_brake = service_max  # holding the train at standstill
         return station, at_station, target, traction, ato_brake
 
-    def _window(self, train: TrainRun, pos, held) -> tuple[int, int]:
-        """The resources the authority node needs this cycle: those held, those from the min safe rear to
-        dRequestResource, and the first one past it (not held, so dLockedResource is the same as over the whole
-        route)."""
+    def _window(self, train: TrainRun, pos, k: int) -> tuple[int, int]:
+        """The resources (by index on the route) the authority node needs this cycle: those held, those from the
+        min safe rear to dRequestResource, and the first one past it (not held, so dLockedResource is the same as
+        over the whole route)."""
         starts, ends = self.resource_floats
-        d_request = min(float(self.scenario.line_m), pos.front_max_m + float(self.scenario.max_ma_m))
-        mine = [r for r, h in enumerate(held) if h]
-        lo = min([r for r, end in enumerate(ends) if end > pos.rear_min_m][:1] + mine[:1] + [len(ends) - 1])
-        beyond = [r for r, start in enumerate(starts) if start >= d_request][:1]
-        hi = max([(beyond[0] if beyond else len(ends) - 1) + 1] + [r + 2 for r in mine[-1:]])
+        last = len(ends) - 1
+        d_request = min(float(self.route_end_m), pos.front_max_m + float(self.scenario.max_ma_m))
+        mine = sorted(self._route_index(r, pos.front_max_m) for r in self.held_sets[k])
+        lo = min([bisect.bisect_right(ends, pos.rear_min_m), *mine[:1], last])
+        beyond = bisect.bisect_left(starts, d_request)
+        hi = max([min(beyond, last) + 1, *(i + 2 for i in mine[-1:])])
         return lo, min(hi, len(ends))
+
+    def _route_index(self, r: int, front_m: float) -> int:
+        """Resource ``r``'s index on the route nearest ``front_m`` (on a loop, the lap a train holds it on)."""
+        if not self.scenario.loop:
+            return r
+        count = self.resources_per_lap
+        f = max(bisect.bisect_right(self.resource_floats[0], front_m) - 1, 0)
+        ahead = (r - f) % count
+        return f + ahead if ahead < count // 2 else f + ahead - count
+
+    def _zone_starts(self, t: float) -> list[float]:
+        """The starts of the active protection zones, on every lap."""
+        line = float(self.scenario.line_m)
+        return [float(z.start_m) + n * line for z in self.scenario.zones if z.active_at(t) for n in range(self.laps)]
 
     def _doors(self, train: TrainRun, pos, station, t: float, *, immobilised: bool, traction_request: bool,
                supervision_cut: bool):
         """The door loop (:data:`~atcs.model.doors.DOOR_LOOP`, its properties checked each cycle) and the ATO's
         door cycle at a station stop: open on the platform's side, wait the dwell time from the doors opening,
         close, and depart once the DCU reports every door closed and locked."""
-        left, right = _station_sides(self.scenario, station, train.spec) if station is not None else (False, False)
+        left, right = _station_sides(self.platforms, station, train.spec) if station is not None else (False, False)
         opening = station is not None and not train.dwell_done
         obstructed = train.spec.fault("stuck_door", t) is not None
         inputs = DoorLoopInputs(
             position_valid=pos.position_valid, front_min_m=pos.front_min_m, front_max_m=pos.front_max_m,
             speed_mps=pos.speed_est_mps, standstill=pos.standstill, immobilised=immobilised,
             stopping_point_m=float(station.stop_m) if station is not None else 0.0,
-            stop_tolerance_m=float(self.scenario.stop_tolerance_m), **self.platform_table,
+            stop_tolerance_m=float(self.scenario.stop_tolerance_m), **self._platforms_ahead(train),
             request_left=opening and left, request_right=opening and right,
             probe_front_m=pos.front_min_m, probe_door_m=train.door_params.last_door_m,
             open_left=opening and left, open_right=opening and right, close=train.dwell_done,
@@ -486,11 +574,15 @@ class Simulation:
                 train.doors_opened_s, train.dwell_done = None, False
         return out
 
+    def _platforms_ahead(self, train: TrainRun) -> dict:
+        """The door loop's platform table: the platforms at the train's next station stop (none past the last)."""
+        return self.door_tables[train.next_station] if train.next_station < len(self.stops) else self.no_platforms
+
     def _reference(self, train: TrainRun, from_m: float, station) -> ReferenceProfile:
         """The minimum-time profile from ``from_m`` to the station's stop: under the ATP's indication curve for
         the line (less the ATO's speed margin), the train's traction and the ATO's planning deceleration."""
         s = self.scenario
-        horizon = Horizon(train.mrsp, train.gradient, float(s.line_m), 0.0)
+        horizon = Horizon(train.mrsp, train.gradient, float(self.route_end_m), 0.0)
         margin_mps = max(float(s.ato_speed_margin_kmh) / KMH, 0.5)
         ceiling = atp_ceiling(train.train_data, train.national, horizon, margin_mps=margin_mps)
         return minimum_time_profile(ceiling, from_m, float(station.stop_m),
@@ -518,9 +610,10 @@ class Simulation:
         if not plant_admits(FLOAT, p, state, emergency_brake, v_next, distance):
             raise SafetyViolation(f"the motion ({v:.3f} -> {v_next:.3f} m/s over {distance:.3f} m) leaves the "
                                   "proofs' plant bounds", train.spec.name, self.step_count, self.time_s)
-        passed = [j for j, x in enumerate(train.tags_m) if train.front_m < x <= train.front_m + distance]
+        tags = self.tag_positions_m
+        passed = range(bisect.bisect_right(tags, train.front_m), bisect.bisect_right(tags, train.front_m + distance))
         train.last_tag = passed[-1] if passed else None
-        if passed and train.front_m + distance - train.tags_m[passed[-1]] > train.position.params.tag_window_m:
+        if passed and train.front_m + distance - tags[passed[-1]] > train.position.params.tag_window_m:
             raise SafetyViolation(f"ran {distance:.3f} m in a cycle, past the tag window (atp.tag_window_m): the tag "
                                   "reader's report would be late beyond the position node's assumption",
                                   train.spec.name, self.step_count, self.time_s)
@@ -539,18 +632,18 @@ class Simulation:
 
     def _check(self) -> None:
         for k, train in enumerate(self.trains):
-            if k:
-                leader = self.trains[k - 1]
-                gap = leader.front_m - float(leader.spec.data.train_length_m) - train.front_m
+            leader, ahead_m = self._leader(k)
+            if leader is not None:
+                gap = leader.front_m + ahead_m - float(leader.spec.data.train_length_m) - train.front_m
                 train.stats.min_gap_m = min(train.stats.min_gap_m, gap)
                 if gap <= 0:
                     raise SafetyViolation(f"collision with {leader.spec.name}", train.spec.name, self.step_count,
                                           self.time_s)
-            for zone in self.scenario.zones:
-                if zone.active_at(self.time_s) and train.front_m > float(zone.start_m):
-                    raise SafetyViolation(f"entered the protection zone at {zone.start_m} m", train.spec.name,
+            for start in self._zone_starts(self.time_s):
+                if train.front_m - train.last_distance_m <= start < train.front_m:
+                    raise SafetyViolation(f"entered the protection zone at {start:g} m", train.spec.name,
                                           self.step_count, self.time_s)
-            if train.front_m > float(self.scenario.line_m):
+            if train.front_m > float(self.route_end_m):
                 raise SafetyViolation("ran past the end of the line", train.spec.name, self.step_count,
                                       self.time_s)
 
@@ -561,10 +654,20 @@ class Simulation:
         return self
 
 
-def _station_sides(scenario: Scenario, station, spec: TrainSpec) -> tuple[bool, bool]:
+def _laps(scenario: Scenario) -> int:
+    """How many laps of a loop the route needs: as far as any train can run in the scenario's time, and its MA
+    beyond (1 on an open line)."""
+    if not scenario.loop:
+        return 1
+    reach = max(t.front_m for t in scenario.trains) + scenario.duration_s * max(
+        t.max_speed_kmh for t in scenario.trains) / KMH_PER_MPS + 2 * scenario.max_ma_m
+    return int(reach // scenario.line_m) + 1
+
+
+def _station_sides(platforms, station, spec: TrainSpec) -> tuple[bool, bool]:
     """The sides (left, right) of the platforms that span the train's doors at the station's stopping point: the
     sides the ATO asks to open."""
-    spans = [p for p in scenario.platforms
+    spans = [p for p in platforms
              if p.start_m <= station.stop_m - spec.last_door_m and station.stop_m - spec.first_door_m <= p.end_m]
     return any(p.left for p in spans), any(p.right for p in spans)
 

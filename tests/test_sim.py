@@ -379,7 +379,7 @@ class TestChecks:
     def test_the_zone_check_itself(self):
         scenario = load_scenario(resolve("seed000_protection_zone"))
         sim = Simulation(scenario)
-        sim.trains[0].front_m = 5000.5
+        sim.trains[0].front_m, sim.trains[0].last_distance_m = 5000.5, 1.0
         with pytest.raises(SafetyViolation, match="entered the protection zone at 5000 m"):
             sim._check()
         with pytest.raises(SafetyViolation, match=r"true front 5000.500 m is outside the position interval"):
