@@ -3,6 +3,7 @@ curves and the end of authority (seed 000 Fig. 15, seed 002 Fig. 9). Written ato
 
 from __future__ import annotations
 
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -100,19 +101,29 @@ def run_plots(sim, records: list[list[dict]], directory: Path, *, sample_every_s
         paths.append(path)
     fig = Figure(figsize=(11, 5.5), layout="constrained")
     ax = fig.subplots()
+    layout = sim.scenario.double_track
     for k, train in enumerate(sim.trains):
         rows = [cycle[k] for cycle in records]
         times = [r["t_s"] for r in rows]
+        if layout is not None:  # a train graph: x along the line, up trains rising and down trains falling
+            ax.plot(times, [r["x_m"] if r["track"] != "turn-back" else math.nan for r in rows],
+                    label=train.spec.name, linewidth=1)
+            continue
         line, = ax.plot(times, [r["front_m"] for r in rows], label=f"{train.spec.name} front")
         ax.plot(times, [r["front_m"] - float(train.spec.data.train_length_m) for r in rows], color=line.get_color(),
                 linestyle=":", label=f"{train.spec.name} rear")
     for zone in sim.scenario.zones:
         until = sim.time_s if zone.until_s is None else float(zone.until_s)
-        ax.hlines(float(zone.start_m), float(zone.from_s), until, color=CURVE_STYLE["ebi"][1], linewidth=2,
-                  label=f"protection zone ({float(zone.start_m):g} m)")
-    ax.set(xlabel="time (s)", ylabel="position (m)", title=f"{sim.scenario.name}: time-distance")
+        at = layout.place(zone.start_m)[1] if layout is not None else float(zone.start_m)
+        ax.hlines(at, float(zone.from_s), until, color=CURVE_STYLE["ebi"][1], linewidth=2,
+                  label=f"protection zone ({at:g} m)")
+    if layout is not None:
+        for station in sim.scenario.stations[:len(sim.scenario.stations) // 2]:
+            ax.axhline(float(station.stop_m), color="grey", linewidth=0.5)
+    ylabel = "position along the line (m; turn-backs not drawn)" if layout is not None else "position (m)"
+    ax.set(xlabel="time (s)", ylabel=ylabel, title=f"{sim.scenario.name}: time-distance")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="upper left", fontsize="small")
+    ax.legend(loc="upper left", fontsize="small", ncols=2 if len(sim.trains) > 8 else 1)
     path = directory / "time_distance.png"
     _save_atomic(fig, path)
     paths.append(path)

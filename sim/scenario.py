@@ -316,7 +316,8 @@ def _train(source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | N
 
 def _trains_in_order(source: str, trains: list[TrainSpec], layout: DoubleTrack | None) -> tuple[TrainSpec, ...]:
     """The trains from the front. On an open line they must be listed so; on the loop of a double track the front
-    train is the one farthest along the loop, and its leader is the last (round the near turn-back)."""
+    train is the one farthest along the loop, and its leader is the last (round the near turn-back, which no train
+    is on at the start: every train's rear is at or after the loop's origin)."""
     if layout is not None:
         trains = sorted(trains, key=lambda t: -t.front_m)
     for j, (ahead, train) in enumerate(itertools.pairwise(trains), start=1):
@@ -327,12 +328,6 @@ def _trains_in_order(source: str, trains: list[TrainSpec], layout: DoubleTrack |
         if train.front_m >= rear:
             raise ScenarioError(f"{source}: trains: {train.name} (front at {train.front_m} m round the loop) "
                                 f"overlaps {ahead.name} (rear at {rear} m)")
-    if layout is not None and len(trains) > 1:
-        first, last = trains[0], trains[-1]
-        if first.front_m >= last.front_m - last.data.train_length_m + layout.loop_m:
-            raise ScenarioError(f"{source}: trains: {first.name} (front at {first.front_m} m) overlaps {last.name} "
-                                f"round the near turn-back (its rear at {last.front_m - last.data.train_length_m} m"
-                                f" + the loop's {layout.loop_m} m)")
     return tuple(trains)
 
 

@@ -350,8 +350,10 @@ class Simulation:
 
         This is the whole manager's step: in :func:`~atcs.model.resources.resource_step` the slots of different
         resources never interact, and an idle slot (nothing sent, nothing in flight) stays as it is and leaves
-        the owner as it is; a resource's slots are handled in train order, as here. The owner codes are
-        renumbered for the trains taken. An idle slot of a train other than the owner is free, quiet and not
+        the owner as it is. The manager grants simultaneous requests in slot order; here a resource's slots are
+        numbered from the train nearest behind it (on an open line, train order), so that on a loop a train
+        powered up over a resource gets it before the train a lap behind. The owner codes are renumbered for the
+        trains taken. An idle slot of a train other than the owner is free, quiet and not
         the owner's, so the properties hold of it trivially. In an outage of a resource's manager (``deliver(r)``
         false) no message about it reaches the manager or a train. ``sends``: the slots (train * resources +
         resource) whose train sends."""
@@ -364,7 +366,7 @@ class Simulation:
             trains = busy[r]
             if owner[r]:
                 trains.add(int(owner[r]) - 1)
-            trains = sorted(trains)
+            trains = sorted(trains, key=lambda k: (self._behind_m(k, r), k))
             slots = [k * count + r for k in trains]
             code = {0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}}
             part = ResourceState(owner=(code[owner[r]],), holding=tuple(holding[j] for j in slots),
@@ -381,6 +383,12 @@ class Simulation:
                     self.in_flight.discard(j)
                 self.held[k][r] = bool(out.held[q])
                 (self.held_sets[k].add if out.held[q] else self.held_sets[k].discard)(r)
+
+    def _behind_m(self, k: int, r: int) -> float:
+        """How far resource ``r`` starts ahead of train ``k``'s rear (on a loop, going round)."""
+        train = self.trains[k]
+        ahead = self.resource_floats[0][r] - (train.front_m - float(train.spec.data.train_length_m))
+        return ahead % float(self.scenario.line_m) if self.scenario.loop else ahead
 
     def _onboard(self, train: TrainRun, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """One cycle of train ``k``'s onboard functions and its plant: returns (the resources it sends a request or
@@ -456,6 +464,8 @@ class Simulation:
             "traction": bool(traction), "position_valid": bool(pos.position_valid),
             "doors_open": bool(train.dcu.door_open_left or train.dcu.door_open_right),
         }
+        if self.scenario.loop:  # where the front is on the double track
+            train.last["track"], train.last["x_m"] = self.scenario.double_track.place(train.front_m)
         report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid \
             else None
         sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]

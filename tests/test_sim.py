@@ -13,6 +13,7 @@ from atcs.proofs.cli import main
 from atcs.proofs.mutants import mutant_node
 from atcs.sim import simulator
 from atcs.sim.monitor import PropertyViolation
+from atcs.sim.plots import run_plots
 from atcs.sim.scenario import ScenarioError, load_scenario, resolve, shipped
 from atcs.sim.simulator import SafetyViolation, Simulation
 
@@ -61,6 +62,54 @@ dwell_s = 20
 [platforms]
 table = [{ start_m = 2195, length_m = 220, side = "left" }]
 """
+
+LOOP = """name = "loop"
+seed = "002 §4.2"
+duration_s = {duration_s}
+cycle_s = 0.1
+[line]
+length_m = 2000
+double_track = true
+turn_back_m = 400
+turn_back_kmh = 25
+wayside_zone_boundaries_m = [1000]
+tag_spacing_m = 100
+resource_length_m = 100
+max_ma_m = 1500
+[atp]
+national = "seed002"
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 2.5
+tacho_error = 0.01
+stop_tolerance_m = 3
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+speed_margin_kmh = 5
+[[stations]]
+name = "S1"
+stop_m = 1510
+dwell_s = 10
+[platforms]
+table = [{{ start_m = 1295, length_m = 220, side = "left" }}]
+{extra}
+[[trains]]
+name = "A"
+preset = "seed002"
+track = "down"
+front_m = 200
+max_speed_kmh = 80
+[[trains]]
+name = "B"
+preset = "seed002"
+track = "up"
+front_m = 800
+max_speed_kmh = 80
+depart_s = 60
+"""
+"""A 2 km double track (a loop of 4,800 m): A is near the down track's end, 1,200 m behind B round the near
+turn-back; B waits 60 s at 800 m on the up track, then runs to S1, round the far turn-back and to S1's mirror."""
 
 
 def _run(scenario):
@@ -213,24 +262,104 @@ class TestSeed002Outcomes:
         assert 4250 < follower.front_m < 4300 and follower.speed_mps == 0
         assert all(t.stats.emergency_brakes == 0 for t in sim.trains)
 
-    def test_timetable_first_departures_stop_at_the_station_with_a_door_cycle(self):
-        scenario = load_scenario(resolve("seed002_timetable"))
-        assert len(scenario.trains) >= 20 and len(scenario.stations) == 10 and scenario.duration_s == 3600
-        first = dataclasses.replace(scenario, trains=scenario.trains[:2], duration_s=Fraction(330))
+
+class TestDoubleTrack:
+    """Seed 002 §4.2: the double track with a turn-back at each end, as one closed track (sim/double_track.py), and
+    its two wayside zones."""
+
+    def test_the_shipped_timetable_is_a_steady_service_round_the_loop(self):
+        s = load_scenario(resolve("seed002_timetable"))
+        layout = s.double_track
+        assert (layout.length_m, layout.turn_back_m, layout.zones, s.line_m) == (56800, 400, 2, 114400)
+        assert len(s.trains) >= 20 and s.duration_s == 3600 and all(t.depart_s == 0 for t in s.trains)
+        assert len(s.stations) == 20 and s.stations[10].name == "S10 (down)"  # both tracks serve the ten stations
+        fronts = [t.front_m for t in s.trains]
+        assert fronts == sorted(fronts, reverse=True)  # from the front: the last is the front train's leader
+        assert {layout.place(x)[0] for x in fronts} == {"up", "down"}
+
+    def test_the_shipped_timetable_first_stops_on_both_tracks(self):
+        s = load_scenario(resolve("seed002_timetable"))
+        names = ("T2", "T11")  # 2 km from S1 on the up track, 400 m from S10 on the down track
+        first = dataclasses.replace(s, trains=tuple(t for t in s.trains if t.name in names), duration_s=Fraction(170))
         sim, records = _run(first)
-        stops = [float(station.stop_m) for station in scenario.stations]
+        stops = [float(station.stop_m) for station in s.stations]
         for k, train in enumerate(sim.trains):
-            assert train.stats.station_stops >= 1, train.spec.name  # T2 departs at 180 s, its dwell ends by 330 s
+            assert train.stats.station_stops == 1, train.spec.name
             opened = [r[k] for r in records if r[k]["doors_open"]]
             assert opened and all(r["speed_kmh"] == 0 for r in opened)  # doors open only at standstill
-            cycles = {}  # station index -> cycles with the doors open there
-            for r in opened:
-                near = [j for j, x in enumerate(stops) if abs(r["front_m"] - x) < float(scenario.stop_tolerance_m)]
-                assert near, r  # only at a stopping point
-                cycles[near[0]] = cycles.get(near[0], 0) + 1
-            assert len(cycles) == train.stats.station_stops
-            assert all(300 <= n <= 302 for n in cycles.values()), cycles  # the 30 s dwell from the doors opening
-        assert all(t.stats.emergency_brakes == 0 and t.stats.min_gap_m > 0 for t in sim.trains)
+            assert all(min(abs(r["front_m"] - x) for x in stops) < float(s.stop_tolerance_m) for r in opened)
+            assert 300 <= len(opened) <= 302  # the 30 s dwell from the doors opening
+            assert train.stats.emergency_brakes == 0 and train.stats.service_brakes == 0
+        assert {r[k]["track"] for r in records for k in range(2) if r[k]["doors_open"]} == {"up", "down"}
+
+    def test_trains_run_round_both_turn_backs_and_the_front_train_follows_the_last(self, tmp_path):
+        path = tmp_path / "loop.toml"
+        path.write_text(LOOP.format(duration_s=360, extra=""))
+        sim, records = _run(load_scenario(path))
+        a, b = sim.trains
+        loop_m = float(sim.scenario.line_m)
+        assert (a.spec.name, b.spec.name) == ("A", "B")  # A is the front train, B its leader a lap on
+        # A is held behind B across the near turn-back: its MA ends short of B's rear, a lap on
+        waiting = [r for r in records if r[0]["t_s"] < 60]
+        assert all(r[0]["eoa_m"] <= 600 + loop_m for r in waiting)
+        assert max(r[0]["eoa_m"] for r in waiting) > loop_m  # it reaches round the turn-back
+        assert a.front_m > loop_m and a.stats.min_gap_m > 0  # A went round onto the up track behind B
+        # B stopped at S1, went round the far turn-back and opened its doors at S1's mirror on the down track
+        assert b.stats.station_stops == 1 and b.next_station == 1
+        assert {r[1]["track"] for r in records if r[1]["doors_open"]} == {"up", "down"}
+        assert {r[1]["track"] for r in records} >= {"up", "turn-back", "down"}
+        assert all(t.stats.emergency_brakes == 0 and t.stats.service_brakes == 0 for t in sim.trains)
+        paths = run_plots(sim, records, tmp_path / "plots")  # the time-distance diagram is a train graph
+        assert sorted(p.name for p in paths) == ["A_speed_distance.png", "B_speed_distance.png", "time_distance.png"]
+        assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in paths)
+
+    def test_a_zone_outage_stops_only_that_zones_grants(self, tmp_path):
+        path = tmp_path / "loop.toml"
+        path.write_text(LOOP.format(duration_s=40, extra="[[manager_outages]]\nzone = 2\nfrom_s = 0\nuntil_s = 20"))
+        sim = Simulation(load_scenario(path))
+        zone = sim.resource_zone
+        while sim.time_s < 20:
+            sim.step()
+        held = sim.held[1]  # B, at 800 m on the up track: its MA reaches into zone 2 (from 1,000 m)
+        assert any(h and zone[r] == 1 for r, h in enumerate(held))
+        assert not any(h and zone[r] == 2 for r, h in enumerate(held))
+        while sim.time_s < 40:
+            sim.step()
+        assert any(h and zone[r] == 2 for r, h in enumerate(sim.held[1]))
+
+    @pytest.mark.parametrize(("change", "message"), [
+        (('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 100'),
+         "trains[0].front_m = 100 must put the whole train on the loop"),
+        (("front_m = 800", "front_m = 850"), "trains[1].front_m = 850 must be on a tag"),
+        (('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 900'),
+         "trains: B (front at 800 m round the loop) overlaps A (rear at 700 m)"),
+        (('track = "down"', 'track = "side"'), "trains[0].track = 'side' must be one of up, down"),
+        (("turn_back_m = 400", "turn_back_m = 450"), "line.turn_back_m = 450 must be a multiple of line.tag_spacing_m"),
+        (("wayside_zone_boundaries_m = [1000]", "wayside_zone_boundaries_m = [2500]"),
+         "line.wayside_zone_boundaries_m[0] = 2500 must lie inside the line"),
+        (("turn_back_kmh = 25\n", ""), "line.turn_back_kmh is missing"),
+        (("double_track = true", "double_track = 1"), "line.double_track = 1 must be true or false"),
+        (("double_track = true", "double_track = false"), "line.turn_back_m = 400 needs line.double_track = true"),
+        (("stop_m = 1510", "stop_m = 1700"), "stations[0].stop_m = 1700: no platform of [platforms] contains it"),
+    ])
+    def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
+        text = LOOP.format(duration_s=10, extra="")
+        old, new = change
+        assert old in text
+        path = tmp_path / "bad.toml"
+        path.write_text(text.replace(old, new, 1))
+        with pytest.raises(ScenarioError) as caught:
+            load_scenario(path)
+        assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+    def test_outage_zones_and_tracks_are_checked(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(LOOP.format(duration_s=10, extra="[[manager_outages]]\nzone = 3"))
+        with pytest.raises(ScenarioError, match=r"manager_outages\[0\].zone = 3 must be a wayside zone"):
+            load_scenario(path)
+        path.write_text(FAULT_LINE.format(leader='track = "up"', line="", duration_s=10))
+        with pytest.raises(ScenarioError, match=r"trains\[0\].track: unknown field"):
+            load_scenario(path)
 
 
 class TestReferenceProfile:
