@@ -1,7 +1,8 @@
 """``atcs bench sim``: the simulator's cost as the fleet grows (issue 8), measured side by side in one run.
 
-The seed 002 timetable's line (56.8 km, tags every 200 m, 100 m resources, ten stations) with 2, 20 and 100
-trains spaced 400 m apart from the line's start, all departing at once. Each fleet runs a warm-up (the
+The seed 002 timetable's double track (56.8 km with a turn-back at each end, a loop of 114.4 km; tags every
+200 m, 100 m resources, ten stations a track) with 2, 20 and 100 trains spaced 400 m apart from the loop's
+origin, all departing at once. Each fleet runs a warm-up (the
 power-up EB and the first grants), then a timed stretch of cycles; every cycle runs every train's nodes
 and checks every property, as a scenario run does. The real-time factor is simulated time over wall time
 (above 1: faster than real time); the per-train cost, relative to the smallest fleet's, shows how the cost
@@ -27,11 +28,12 @@ TIMED_CYCLES = 200
 
 
 def fleet_scenario(trains: int):
-    """The seed 002 timetable with ``trains`` trains, front to back every 400 m from the line's start, all
-    departing at 0 s."""
+    """The seed 002 timetable with ``trains`` trains, front to back every 400 m from the loop's origin (the up
+    track's start), all departing at 0 s; the front train's leader is the last, round the near turn-back."""
     base = load_scenario(resolve("seed002_timetable"))
-    if not 1 <= trains <= int(base.line_m) // SPACING_M:
-        raise ValueError(f"trains must be from 1 to {int(base.line_m) // SPACING_M}, got {trains!r}")
+    most = (int(base.line_m) - 1) // SPACING_M  # every front short of the loop's end
+    if not 1 <= trains <= most:
+        raise ValueError(f"trains must be from 1 to {most}, got {trains!r}")
     template = base.trains[0]
     specs = tuple(dataclasses.replace(template, name=f"T{k + 1}", front_m=Fraction(SPACING_M * (trains - k)),
                                       depart_s=Fraction(0)) for k in range(trains))
@@ -55,7 +57,7 @@ def bench_sim(console: Console, fleets: tuple[int, ...] = FLEETS, warm_up: int =
         rows.append((trains, per_cycle_s, sim.dt / per_cycle_s))
         results[f"{trains}_trains_cycle_s"] = per_cycle_s
         results[f"{trains}_trains_real_time_factor"] = sim.dt / per_cycle_s
-    table = Table(title=f"bench sim: seed 002 line, trains every {SPACING_M} m, {cycles} cycles timed after "
+    table = Table(title=f"bench sim: seed 002 double track, trains every {SPACING_M} m, {cycles} cycles timed after "
                         f"{warm_up} of warm-up, every property checked every cycle")
     for column in ("trains", "ms / cycle", "ms / train-cycle", "/ smallest fleet's per train", "real-time factor"):
         table.add_column(column, justify="right")

@@ -237,7 +237,7 @@ def test_sim_benchmark_prints_the_cost_per_fleet():
     assert "real-time factor" in console.export_text()
     fleet = fleet_scenario(100)
     assert [t.front_m for t in fleet.trains[:2]] == [40000, 39600] and fleet.trains[-1].front_m == 400
-    with pytest.raises(ValueError, match="trains must be from 1 to 142, got 500"):
+    with pytest.raises(ValueError, match="trains must be from 1 to 285, got 500"):
         fleet_scenario(500)
 
 

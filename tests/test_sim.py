@@ -68,11 +68,11 @@ seed = "002 §4.2"
 duration_s = {duration_s}
 cycle_s = 0.1
 [line]
-length_m = 2000
+length_m = 1600
 double_track = true
-turn_back_m = 400
+turn_back_m = 200
 turn_back_kmh = 25
-wayside_zone_boundaries_m = [1000]
+wayside_zone_boundaries_m = [800]
 tag_spacing_m = 100
 resource_length_m = 100
 max_ma_m = 1500
@@ -89,10 +89,10 @@ margin_m = 30
 speed_margin_kmh = 5
 [[stations]]
 name = "S1"
-stop_m = 1510
+stop_m = 1110
 dwell_s = 10
 [platforms]
-table = [{{ start_m = 1295, length_m = 220, side = "left" }}]
+table = [{{ start_m = 895, length_m = 220, side = "left" }}]
 {extra}
 [[trains]]
 name = "A"
@@ -104,12 +104,12 @@ max_speed_kmh = 80
 name = "B"
 preset = "seed002"
 track = "up"
-front_m = 800
+front_m = 700
 max_speed_kmh = 80
-depart_s = 60
+depart_s = 40
 """
-"""A 2 km double track (a loop of 4,800 m): A is near the down track's end, 1,200 m behind B round the near
-turn-back; B waits 60 s at 800 m on the up track, then runs to S1, round the far turn-back and to S1's mirror."""
+"""A 1.6 km double track (a loop of 3,600 m): A is near the down track's end, 900 m behind B round the near
+turn-back; B waits 40 s at 700 m on the up track, then runs to S1, round the far turn-back and to S1's mirror."""
 
 
 def _run(scenario):
@@ -294,22 +294,22 @@ class TestDoubleTrack:
 
     def test_trains_run_round_both_turn_backs_and_the_front_train_follows_the_last(self, tmp_path):
         path = tmp_path / "loop.toml"
-        path.write_text(LOOP.format(duration_s=360, extra=""))
+        path.write_text(LOOP.format(duration_s=295, extra=""))
         sim, records = _run(load_scenario(path))
         a, b = sim.trains
         loop_m = float(sim.scenario.line_m)
         assert (a.spec.name, b.spec.name) == ("A", "B")  # A is the front train, B its leader a lap on
         # A is held behind B across the near turn-back: its MA ends short of B's rear, a lap on
-        waiting = [r for r in records if r[0]["t_s"] < 60]
-        assert all(r[0]["eoa_m"] <= 600 + loop_m for r in waiting)
+        waiting = [r for r in records if r[0]["t_s"] < 40]
+        assert all(r[0]["eoa_m"] <= 500 + loop_m for r in waiting)
         assert max(r[0]["eoa_m"] for r in waiting) > loop_m  # it reaches round the turn-back
         assert a.front_m > loop_m and a.stats.min_gap_m > 0  # A went round onto the up track behind B
         # B stopped at S1, went round the far turn-back and opened its doors at S1's mirror on the down track
-        assert b.stats.station_stops == 1 and b.next_station == 1
+        assert b.stats.station_stops >= 1 and b.next_station == b.stats.station_stops
         assert {r[1]["track"] for r in records if r[1]["doors_open"]} == {"up", "down"}
         assert {r[1]["track"] for r in records} >= {"up", "turn-back", "down"}
         assert all(t.stats.emergency_brakes == 0 and t.stats.service_brakes == 0 for t in sim.trains)
-        paths = run_plots(sim, records, tmp_path / "plots")  # the time-distance diagram is a train graph
+        paths = run_plots(sim, records, tmp_path / "plots", sample_every_s=10)  # time-distance: a train graph
         assert sorted(p.name for p in paths) == ["A_speed_distance.png", "B_speed_distance.png", "time_distance.png"]
         assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in paths)
 
@@ -320,7 +320,7 @@ class TestDoubleTrack:
         zone = sim.resource_zone
         while sim.time_s < 20:
             sim.step()
-        held = sim.held[1]  # B, at 800 m on the up track: its MA reaches into zone 2 (from 1,000 m)
+        held = sim.held[1]  # B, at 700 m on the up track: its MA reaches into zone 2 (from 800 m)
         assert any(h and zone[r] == 1 for r, h in enumerate(held))
         assert not any(h and zone[r] == 2 for r, h in enumerate(held))
         while sim.time_s < 40:
@@ -330,17 +330,17 @@ class TestDoubleTrack:
     @pytest.mark.parametrize(("change", "message"), [
         (('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 100'),
          "trains[0].front_m = 100 must put the whole train on the loop"),
-        (("front_m = 800", "front_m = 850"), "trains[1].front_m = 850 must be on a tag"),
+        (("front_m = 700", "front_m = 750"), "trains[1].front_m = 750 must be on a tag"),
         (('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 900'),
-         "trains: B (front at 800 m round the loop) overlaps A (rear at 700 m)"),
+         "trains: B (front at 700 m round the loop) overlaps A (rear at 700 m)"),
         (('track = "down"', 'track = "side"'), "trains[0].track = 'side' must be one of up, down"),
-        (("turn_back_m = 400", "turn_back_m = 450"), "line.turn_back_m = 450 must be a multiple of line.tag_spacing_m"),
-        (("wayside_zone_boundaries_m = [1000]", "wayside_zone_boundaries_m = [2500]"),
+        (("turn_back_m = 200", "turn_back_m = 250"), "line.turn_back_m = 250 must be a multiple of line.tag_spacing_m"),
+        (("wayside_zone_boundaries_m = [800]", "wayside_zone_boundaries_m = [2500]"),
          "line.wayside_zone_boundaries_m[0] = 2500 must lie inside the line"),
         (("turn_back_kmh = 25\n", ""), "line.turn_back_kmh is missing"),
         (("double_track = true", "double_track = 1"), "line.double_track = 1 must be true or false"),
-        (("double_track = true", "double_track = false"), "line.turn_back_m = 400 needs line.double_track = true"),
-        (("stop_m = 1510", "stop_m = 1700"), "stations[0].stop_m = 1700: no platform of [platforms] contains it"),
+        (("double_track = true", "double_track = false"), "line.turn_back_m = 200 needs line.double_track = true"),
+        (("stop_m = 1110", "stop_m = 1300"), "stations[0].stop_m = 1300: no platform of [platforms] contains it"),
     ])
     def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
         text = LOOP.format(duration_s=10, extra="")
