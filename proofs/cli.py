@@ -12,6 +12,7 @@ reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import time
 from collections import deque
@@ -73,6 +74,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
                    help="where counterexamples are written as JSON and CSV (default ./counterexamples)")
 
+    f = sub.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it with "
+                       "z3 and cvc5")
+    f.add_argument("--only", metavar="PATTERN", help="glob over property names, e.g. 'supervision.*'")
+    f.add_argument("--report", metavar="FILE", help="take the proofs' depths from this atcs prove --json report "
+                   "(default: prove first)")
+    f.add_argument("--dir", metavar="DIR", default="certificates",
+                   help="where the scripts and certificates.json are written (default ./certificates)")
+    f.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=600.0,
+                   help="per-check time limit of each solver, and per-property limit of the proving (default 600)")
+    f.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
+
     r = sub.add_parser("replay", help="replay a counterexample exactly and show the violating step")
     r.add_argument("trace", metavar="CEX.json")
 
@@ -123,8 +135,8 @@ def main(argv: list[str] | None = None) -> int:
         out = Console(width=160)
     try:
         args = build_parser().parse_args(argv)
-        command = {"prove": _prove, "replay": _replay, "curves": _curves, "platforms": _platforms, "sim": _sim,
-                   "headway": _headway, "bench": _bench}[args.command]
+        command = {"prove": _prove, "certify": _certify, "replay": _replay, "curves": _curves,
+                   "platforms": _platforms, "sim": _sim, "headway": _headway, "bench": _bench}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -192,6 +204,99 @@ def _prove(args, out: Console, err: Console) -> int:
     if statuses & {"unknown", "error"}:
         return EXIT_UNKNOWN
     return EXIT_OK
+
+
+# --- certify -----------------------------------------------------------------------------
+
+_CERT_STYLE = {"certified": "green", "unconfirmed": "yellow", "disagreement": "bold red", "error": "bold magenta",
+               "not proved": "yellow"}
+
+
+def _certify(args, out: Console, err: Console) -> int:
+    from atcs.proofs import certify, report, suite
+    from atcs.proofs.report import OutputPathError
+    from atcs.properties import PROPERTIES, select
+
+    props = select(args.only)
+    if not props:
+        modules = sorted({p.module for p in PROPERTIES.values()})
+        raise UsageError(f"certify: --only {args.only!r} matches no property (modules: {', '.join(modules)})")
+    try:
+        report.check_writable_dir("--dir", args.dir)
+    except OutputPathError as exc:
+        raise UsageError(f"certify: {exc}") from None
+    start = time.monotonic()
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    needed = {lemma for p in props for lemma in _lemma_closure(p, PROPERTIES)}
+    wanted = [*props, *(PROPERTIES[n] for n in sorted(needed - {p.name for p in props}))]
+    if args.report is not None:
+        try:
+            depths = certify.depths_from_report(args.report)
+        except certify.ProveReportError as exc:
+            raise UsageError(f"certify: --report {exc}") from None
+    else:
+        depths = {}
+        with Progress(*columns, console=err, transient=True) as progress:
+            task = progress.add_task("proving", total=len(wanted))
+            for result in suite.run(wanted, timeout_s=args.timeout, jobs=args.jobs):
+                if result.status == "proved":
+                    depths[result.name] = result.k
+                progress.update(task, advance=1, description=f"proving {result.name}: {result.status}")
+    results = {}
+    with Progress(*columns, console=err, transient=True) as progress:
+        task = progress.add_task("certifying", total=sum(p.name in depths for p in wanted))
+        for c in certify.run(wanted, depths, timeout_s=args.timeout, jobs=args.jobs):
+            results[c.name] = c
+            progress.update(task, advance=1, description=f"certifying {c.name}")
+    certify.settle(results, depths)
+    wall = time.monotonic() - start
+
+    directory = Path(args.dir)
+    records = []
+    for prop in props:
+        c = results.get(prop.name)
+        if c is None:
+            records.append({"name": prop.name, "requirement": prop.requirement, "k": None, "lemmas": list(prop.lemmas),
+                            "status": "not proved", "confirmed_by": [], "message": "no proof to certify",
+                            "checks": []})
+            continue
+        (directory / prop.name).mkdir(parents=True, exist_ok=True)
+        for ob in c.obligations:
+            report.write_atomic(directory / prop.name / f"{ob.check}.smt2", ob.script)
+        records.append(certify.record(c, directory))
+    counts = {s: sum(r["status"] == s for r in records) for s in _CERT_STYLE}
+    report.write_atomic(directory / "certificates.json", json.dumps(
+        {"tool": "atcs certify", "solvers": list(certify.SOLVERS), "solver_versions": certify.solver_versions(),
+         "timeout_s": args.timeout, "wall_s": round(wall, 3), "summary": counts, "properties": records},
+        indent=2) + "\n")
+
+    table = Table(title=f"atcs certify: {len(props)} properties in {wall:.2f} s ({directory})")
+    for heading in ("property", "requirement", "k", "checks", "confirmed by", "status"):
+        table.add_column(heading, justify="right" if heading == "k" else "left")
+    for r in records:
+        table.add_row(r["name"], r["requirement"], "" if r["k"] is None else str(r["k"]), str(len(r["checks"])),
+                      ", ".join(r["confirmed_by"]) or "none", f"[{_CERT_STYLE[r['status']]}]{r['status']}[/]")
+    out.print(table)
+    for r in records:
+        if r["status"] != "certified":
+            out.print(f"[{_CERT_STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}")
+    if counts["disagreement"]:
+        return EXIT_FALSIFIED
+    if counts["certified"] != len(records):
+        return EXIT_UNKNOWN
+    return EXIT_OK
+
+
+def _lemma_closure(prop, registry) -> set[str]:
+    """Every lemma ``prop`` rests on, directly or through other lemmas."""
+    seen: set[str] = set()
+    todo = list(prop.lemmas)
+    while todo:
+        name = todo.pop()
+        if name not in seen and name in registry:
+            seen.add(name)
+            todo.extend(registry[name].lemmas)
+    return seen
 
 
 # --- replay ------------------------------------------------------------------------------
