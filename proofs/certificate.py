@@ -138,7 +138,8 @@ def _cvc5(script: str, timeout_s: float) -> tuple[str, str]:
         if command.isNull():
             break
         answers.append(command.invoke(solver, symbols).strip())
-    verdict = answers[-1] if answers else ""
+    answer = answers[-1] if answers else ""
+    verdict, _, reason = answer.partition(" ")  # e.g. "unknown (TIMEOUT)"
     if verdict not in VERDICTS:
-        return "unknown", f"cvc5 answered {verdict!r}"
-    return verdict, "timeout or incomplete" if verdict == "unknown" else ""
+        return "unknown", f"cvc5 answered {answer!r}"
+    return verdict, reason.strip("()").lower() if verdict == "unknown" else ""

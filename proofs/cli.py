@@ -27,7 +27,8 @@ VIOLATION_TRACE_CYCLES = 600
 """``atcs sim`` without ``--trace``: on a violation, the last this many cycles are written to
 ``SCENARIO_violation.csv`` in the current directory."""
 
-_STYLE = {"proved": "green", "falsified": "bold red", "unknown": "yellow", "error": "bold magenta"}
+_STYLE = {"proved": "green", "vacuous": "yellow", "falsified": "bold red", "unknown": "yellow",
+          "error": "bold magenta"}
 
 
 class UsageError(Exception):
@@ -73,6 +74,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
     p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
                    help="where counterexamples are written as JSON and CSV (default ./counterexamples)")
+    p.add_argument("--witness-dir", metavar="DIR", default=None,
+                   help="also write each proved property's witness runs (its assumptions and every implication's "
+                   "condition reached) here as JSON")
 
     f = sub.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it with "
                        "z3 and cvc5")
@@ -160,6 +164,8 @@ def _prove(args, out: Console, err: Console) -> int:
             if path is not None:
                 report.check_writable_file(option, path)
         report.check_writable_dir("--cex-dir", args.cex_dir)
+        if args.witness_dir is not None:
+            report.check_writable_dir("--witness-dir", args.witness_dir)
     except OutputPathError as exc:
         raise UsageError(f"prove: {exc}") from None
 
@@ -179,6 +185,8 @@ def _prove(args, out: Console, err: Console) -> int:
         cex = None
         if result.trace is not None and result.replay is not None:
             cex = str(report.write_counterexample(args.cex_dir, prop, result))
+        if args.witness_dir is not None and result.witnesses:
+            report.write_witnesses(args.witness_dir, prop, result)
         records.append(report.result_record(prop, result, cex))
 
     table = Table(title=f"atcs prove: {len(props)} properties in {wall:.2f} s")
@@ -201,7 +209,7 @@ def _prove(args, out: Console, err: Console) -> int:
     statuses = {r["status"] for r in records}
     if "falsified" in statuses:
         return EXIT_FALSIFIED
-    if statuses & {"unknown", "error"}:
+    if statuses & {"vacuous", "unknown", "error"}:
         return EXIT_UNKNOWN
     return EXIT_OK
 

@@ -4,10 +4,13 @@ For k = 0, 1, ..., max_k: the inductive step at depth k (proves the property if
 BMC has cleared depths 0 .. k-1), then BMC at depth k (finds the shortest
 counterexample). A counterexample is replayed exactly before it is reported.
 
-Verdicts: ``proved`` (engine ``k-induction``, with k), ``falsified`` (engine
-``bmc``, with the depth and the trace), ``unknown`` (timeout, solver gave up, or
-no k <= max_k closes the induction) and ``error`` (the model or the property
-could not be built, or a counterexample did not replay: never a pass).
+Verdicts: ``proved`` (engine ``k-induction``, with k, and witnesses that it is not
+vacuous, :mod:`atcs.proofs.vacuity`), ``vacuous`` (proved, but its assumptions
+admit no run or an implication's condition is never reached: it claims nothing),
+``falsified`` (engine ``bmc``, with the depth and the trace), ``unknown``
+(timeout, solver gave up, or no k <= max_k closes the induction) and ``error``
+(the model or the property could not be built, or a counterexample did not
+replay: never a pass).
 """
 
 from __future__ import annotations
@@ -23,9 +26,10 @@ from atcs.proofs.bmc import Bmc, Check
 from atcs.proofs.induction import Induction
 from atcs.proofs.system import Unrolling
 from atcs.proofs.trace import Replay, ReplayError, Trace, extract, reproduce
+from atcs.proofs.vacuity import Witness, check_vacuity
 from atcs.properties.property import Property
 
-STATUSES = ("proved", "falsified", "unknown", "error")
+STATUSES = ("proved", "vacuous", "falsified", "unknown", "error")
 
 
 @dataclass
@@ -39,6 +43,8 @@ class Result:
     message: str = ""
     trace: Trace | None = None
     replay: Replay | None = None
+    witnesses: tuple[Witness, ...] = ()
+    """For a proved property: runs showing its assumptions and each implication's condition reachable."""
 
 
 class _Timeout(Exception):
@@ -97,8 +103,9 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
     deadline = _Deadline(timeout_s)
     max_k = prop.max_k if max_k is None else max_k
 
-    def result(status, engine="", k=None, message="", trace=None, replay=None):
-        return Result(prop.name, prop.requirement, status, engine, k, time.monotonic() - start, message, trace, replay)
+    def result(status, engine="", k=None, message="", trace=None, replay=None, witnesses=()):
+        return Result(prop.name, prop.requirement, status, engine, k, time.monotonic() - start, message, trace, replay,
+                      tuple(witnesses))
 
     try:
         assumed = []
@@ -115,7 +122,7 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
                             _chain=(*_chain, prop.name))
                 if proved is not None:
                     proved[name] = sub
-            if sub.status != "proved":
+            if sub.status not in ("proved", "vacuous"):  # a vacuous lemma still holds: assuming it is sound
                 status = "error" if sub.status in ("falsified", "error") else "unknown"
                 return result(status, message=f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))
             assumed.append(lemma)
@@ -136,7 +143,13 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
                 return result("unknown", "bmc", k, _unknown(base, "BMC", k))
             step = induction.check(k, deadline.remaining())
             if step.result == "unsat":
-                return result("proved", "k-induction", k)
+                vacuity = check_vacuity(u, timeout_s=deadline.remaining())
+                if vacuity.status == "non-vacuous":
+                    return result("proved", "k-induction", k, witnesses=vacuity.witnesses)
+                status = "vacuous" if vacuity.status == "vacuous" else "unknown"
+                return result(status, "k-induction", k, f"proved, but {vacuity.message}"
+                              if status == "vacuous" else f"proved, but vacuity unknown: {vacuity.message}",
+                              witnesses=vacuity.witnesses)
             if step.result == "unknown":
                 return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
         return result(

@@ -8,7 +8,7 @@ import tempfile
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from atcs.proofs.engine import Result
+from atcs.proofs.engine import STATUSES, Result
 from atcs.proofs.trace import to_csv, to_json
 from atcs.properties.property import Property
 
@@ -89,23 +89,41 @@ def result_record(prop: Property, result: Result, counterexample: str | None) ->
         "seconds": round(result.seconds, 4),
         "message": result.message,
         "counterexample": counterexample,
+        "witnesses": [{"what": w.what, "step": w.step} for w in result.witnesses],
     }
 
 
+FAILURES = ("vacuous", "falsified", "unknown")
+"""The JUnit failures (an error is a JUnit error)."""
+
+
+def write_witnesses(directory: str | Path, prop: Property, result: Result) -> Path:
+    """Write ``<dir>/<property>.witnesses.json``: each witness run of a proved property (what it shows, the step,
+    the trace)."""
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    path = directory / f"{prop.name}.witnesses.json"
+    doc = {"property": prop.name, "requirement": prop.requirement,
+           "witnesses": [{"what": w.what, "step": w.step, "trace": to_json(w.trace, requirement=prop.requirement)}
+                         for w in result.witnesses]}
+    write_atomic(path, json.dumps(doc, indent=2) + "\n")
+    return path
+
+
 def json_report(records: list[dict], *, timeout_s: float, wall_s: float) -> str:
-    counts = {s: sum(r["status"] == s for r in records) for s in ("proved", "falsified", "unknown", "error")}
+    counts = {s: sum(r["status"] == s for r in records) for s in STATUSES}
     doc = {"tool": "atcs", "timeout_s": timeout_s, "wall_seconds": round(wall_s, 3), "summary": counts,
            "properties": records}
     return json.dumps(doc, indent=2) + "\n"
 
 
 def junit_report(records: list[dict], *, wall_s: float) -> str:
-    """One test case per property: falsified and unknown are failures, error is an error."""
+    """One test case per property: vacuous, falsified and unknown are failures, error is an error."""
     suite = ET.Element(
         "testsuite",
         name="atcs.prove",
         tests=str(len(records)),
-        failures=str(sum(r["status"] in ("falsified", "unknown") for r in records)),
+        failures=str(sum(r["status"] in FAILURES for r in records)),
         errors=str(sum(r["status"] == "error" for r in records)),
         skipped="0",
         time=f"{wall_s:.3f}",
@@ -119,7 +137,7 @@ def junit_report(records: list[dict], *, wall_s: float) -> str:
              ET.Element("property", name="engine", value=str(r["engine"])),
              ET.Element("property", name="k", value=str(r["k"]))]
         )
-        if r["status"] in ("falsified", "unknown"):
+        if r["status"] in FAILURES:
             detail = r["message"] + (f"; counterexample: {r['counterexample']}" if r["counterexample"] else "")
             ET.SubElement(case, "failure", type=r["status"], message=f"{r['status']}: {r['message']}").text = detail
         elif r["status"] == "error":
