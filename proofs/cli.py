@@ -150,15 +150,22 @@ def main(argv: list[str] | None = None) -> int:
 # --- prove -------------------------------------------------------------------------------
 
 
+def _selected(command: str, pattern: str | None) -> list:
+    """The registered properties ``--only`` selects (all without it); none is a usage error."""
+    from atcs.properties import PROPERTIES, select
+
+    props = select(pattern)
+    if not props:
+        modules = sorted({p.module for p in PROPERTIES.values()})
+        raise UsageError(f"{command}: --only {pattern!r} matches no property (modules: {', '.join(modules)})")
+    return props
+
+
 def _prove(args, out: Console, err: Console) -> int:
     from atcs.proofs import report, suite
     from atcs.proofs.report import OutputPathError
-    from atcs.properties import PROPERTIES, select
 
-    props = select(args.only)
-    if not props:
-        modules = sorted({p.module for p in PROPERTIES.values()})
-        raise UsageError(f"prove: --only {args.only!r} matches no property (modules: {', '.join(modules)})")
+    props = _selected("prove", args.only)
     try:
         for option, path in (("--json", args.json), ("--junit", args.junit)):
             if path is not None:
@@ -223,12 +230,9 @@ _CERT_STYLE = {"certified": "green", "unconfirmed": "yellow", "disagreement": "b
 def _certify(args, out: Console, err: Console) -> int:
     from atcs.proofs import certify, report, suite
     from atcs.proofs.report import OutputPathError
-    from atcs.properties import PROPERTIES, select
+    from atcs.properties import PROPERTIES
 
-    props = select(args.only)
-    if not props:
-        modules = sorted({p.module for p in PROPERTIES.values()})
-        raise UsageError(f"certify: --only {args.only!r} matches no property (modules: {', '.join(modules)})")
+    props = _selected("certify", args.only)
     try:
         report.check_writable_dir("--dir", args.dir)
     except OutputPathError as exc:

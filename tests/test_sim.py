@@ -130,6 +130,17 @@ def _fault_run(tmp_path, leader="", line="", duration_s=60):
     return _run(load_scenario(path))
 
 
+def _assert_refused(tmp_path, text, change, message):
+    """The scenario ``text`` with ``change`` (old, new) made is refused, the error naming the file and ``message``."""
+    old, new = change
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(ScenarioError) as caught:
+        load_scenario(path)
+    assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+
 def _train(sim, name):
     return next(t for t in sim.trains if t.spec.name == name)
 
@@ -163,14 +174,7 @@ class TestScenarios:
          "line.speed_limits[0].start_m = 5 must be 0 for the first segment"),
     ])
     def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
-        text = shipped()["seed000_normal"].read_text()
-        old, new = change
-        assert old in text
-        path = tmp_path / "bad.toml"
-        path.write_text(text.replace(old, new, 1))
-        with pytest.raises(ScenarioError) as caught:
-            load_scenario(path)
-        assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+        _assert_refused(tmp_path, shipped()["seed000_normal"].read_text(), change, message)
 
     def test_fault_kinds_and_zones_are_checked(self, tmp_path):
         text = shipped()["seed000_service_brake_disabled"].read_text()
@@ -343,14 +347,7 @@ class TestDoubleTrack:
         (("stop_m = 1110", "stop_m = 1300"), "stations[0].stop_m = 1300: no platform of [platforms] contains it"),
     ])
     def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
-        text = LOOP.format(duration_s=10, extra="")
-        old, new = change
-        assert old in text
-        path = tmp_path / "bad.toml"
-        path.write_text(text.replace(old, new, 1))
-        with pytest.raises(ScenarioError) as caught:
-            load_scenario(path)
-        assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+        _assert_refused(tmp_path, LOOP.format(duration_s=10, extra=""), change, message)
 
     def test_outage_zones_and_tracks_are_checked(self, tmp_path):
         path = tmp_path / "bad.toml"
