@@ -1,4 +1,5 @@
-"""The ``atcs`` command line: ``prove``, ``replay``, ``curves``, ``platforms``, ``sim``, ``headway``, ``bench``.
+"""The ``atcs`` command line: ``prove``, ``certify``, ``replay``, ``curves``, ``platforms``, ``sim``, ``headway``,
+``bench``, ``vectors``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
@@ -6,7 +7,9 @@ Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
 ``curves``: 0, or 2 for bad train or track data. ``platforms``: 0, or 2 for bad platform data.
 ``sim``: 0 the run ended with no violation, 1 a property or safety check failed, 2 a bad scenario.
-``bench``: 0, or 2 for an unknown benchmark name.
+``bench``: 0, or 2 for an unknown benchmark name. ``vectors generate``: 0 every goal settled (covered or shown
+infeasible), 3 some unknown; ``vectors verify``: 0 every file verified, 1 a problem; ``vectors check``: 0 every
+vector passed, 1 one failed or the implementation stopped; all 2 for bad input.
 """
 
 from __future__ import annotations
@@ -58,6 +61,16 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return value
+
+
+def _tolerance(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
     return value
 
 
@@ -130,6 +143,32 @@ def build_parser() -> argparse.ArgumentParser:
 
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
+
+    v = sub.add_parser("vectors", help="certified test vectors of each step function: generate, verify, check "
+                       "an implementation")
+    vsub = v.add_subparsers(dest="vectors_command", required=True, parser_class=_Parser)
+    g = vsub.add_parser("generate", help="find vectors covering requirements, boundaries and MC/DC with z3")
+    g.add_argument("--function", metavar="NAME", action="append",
+                   help="a function (node) of the model; repeat for several (default: every one)")
+    g.add_argument("--out", metavar="DIR", default="vectors", help="where the files go (default ./vectors)")
+    g.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=10.0,
+                   help="per solver query; past it the goal is unknown (default 10)")
+    g.add_argument("--budget", metavar="SECONDS", type=_positive_float, default=1800.0,
+                   help="per function; goals past it are unknown (default 1800)")
+    g.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
+    y = vsub.add_parser("verify", help="re-check vector files against the model (hashes, symbolic and exact)")
+    y.add_argument("dir", metavar="DIR")
+    k = vsub.add_parser("check", help="run an external implementation over the vectors (JSON lines)")
+    k.add_argument("dir", metavar="DIR")
+    k.add_argument("--impl", metavar="COMMAND", required=True,
+                   help="the implementation's command line: one JSON request per line in, one answer per line out")
+    k.add_argument("--function", metavar="NAME", action="append", help="only this function's file (repeatable)")
+    k.add_argument("--rel-tol", metavar="X", type=_tolerance, default=1e-9,
+                   help="relative tolerance for numbers answered as JSON numbers (default 1e-9)")
+    k.add_argument("--abs-tol", metavar="X", type=_tolerance, default=1e-9,
+                   help="absolute tolerance for numbers answered as JSON numbers (default 1e-9)")
+    k.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=10.0,
+                   help="how long to wait for each answer (default 10)")
     return parser
 
 
@@ -140,7 +179,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         command = {"prove": _prove, "certify": _certify, "replay": _replay, "curves": _curves,
-                   "platforms": _platforms, "sim": _sim, "headway": _headway, "bench": _bench}[args.command]
+                   "platforms": _platforms, "sim": _sim, "headway": _headway, "bench": _bench,
+                   "vectors": _vectors}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -595,6 +635,138 @@ def _bench(args, out: Console, err: Console) -> int:
     for name in [args.name] if args.name else list(BENCHMARKS):
         BENCHMARKS[name](out)
     return EXIT_OK
+
+
+# --- vectors -----------------------------------------------------------------------------
+
+
+def _vectors(args, out: Console, err: Console) -> int:
+    return {"generate": _vectors_generate, "verify": _vectors_verify,
+            "check": _vectors_check}[args.vectors_command](args, out, err)
+
+
+def _functions(command: str, names: list[str] | None) -> list[str]:
+    from atcs.model import NODES
+
+    for name in names or ():
+        if name not in NODES:
+            raise UsageError(f"vectors {command}: --function {name!r} is not a function of the model "
+                             f"(functions: {', '.join(NODES)})")
+    return list(dict.fromkeys(names)) if names else list(NODES)
+
+
+def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float):
+    from atcs.model import NODES
+    from atcs.proofs import vector_files
+    from atcs.proofs.vectors import generate
+    from atcs.properties import PROPERTIES
+
+    node = NODES[name]
+    fv = generate(node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s,
+                  budget_s=budget_s)
+    vector_files.write(out_dir, fv)
+    return name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds
+
+
+def _vectors_generate(args, out: Console, err: Console) -> int:
+    from concurrent.futures import ProcessPoolExecutor
+
+    from atcs.proofs import report
+
+    names = _functions("generate", args.function)
+    try:
+        report.check_writable_dir("--out", args.out)
+    except report.OutputPathError as exc:
+        raise UsageError(f"vectors generate: {exc}") from None
+    start = time.monotonic()
+    jobs = [(n, args.out, args.timeout, args.budget) for n in names]
+    if args.jobs == 1:
+        rows = [_generate_one(*job) for job in jobs]
+    else:
+        with ProcessPoolExecutor(args.jobs) as pool:
+            rows = list(pool.map(_generate_one, *zip(*jobs, strict=True)))
+    table = Table(title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s "
+                  f"({args.out})")
+    for heading in ("function", "vectors", "requirements", "boundaries", "MC/DC", "not covered", "seconds"):
+        table.add_column(heading, justify="left" if heading == "function" else "right")
+    incomplete = False
+    for name, count, cov, reqs, covered, seconds in rows:
+        def part(kind, cov=cov):
+            return f"{cov[kind]['covered']}/{cov[kind]['goals']}"
+        left = {s: sum(cov[k][s] for k in cov) for s in ("infeasible", "unknown")}
+        incomplete = incomplete or left["unknown"] > 0
+        table.add_row(name, str(count), f"{len(covered)}/{len(reqs)} ids, {part('requirement')}", part("boundary"),
+                      part("mcdc"), f"{left['infeasible']} infeasible, {left['unknown']} unknown", f"{seconds:.1f}")
+    out.print(table)
+    return EXIT_UNKNOWN if incomplete else EXIT_OK
+
+
+def _vector_files(command: str, directory: str, names: list[str] | None = None) -> list:
+    from atcs.proofs.vector_files import VectorFileError, read
+
+    root = Path(directory)
+    if not root.is_dir():
+        raise UsageError(f"vectors {command}: {directory} is not a directory")
+    paths = sorted(root.glob("*.json"))
+    if names:
+        paths = [p for p in paths if p.stem in set(_functions(command, names))]
+    if not paths:
+        raise UsageError(f"vectors {command}: {directory} holds no vector file (<function>.json)")
+    if command == "verify":
+        return paths
+    try:
+        return [read(p) for p in paths]
+    except VectorFileError as exc:
+        raise UsageError(f"vectors {command}: {exc}") from None
+
+
+def _vectors_verify(args, out: Console, err: Console) -> int:
+    from atcs.proofs.vector_files import VectorFileError
+    from atcs.proofs.vector_verify import verify_file
+
+    results = []
+    for path in _vector_files("verify", args.dir):
+        try:
+            results.append(verify_file(path))
+        except VectorFileError as exc:
+            raise UsageError(f"vectors verify: {exc}") from None
+    table = Table(title=f"atcs vectors verify {args.dir}")
+    for heading in ("file", "function", "vectors", "verdict"):
+        table.add_column(heading)
+    for r in results:
+        table.add_row(r.path.name, r.function, str(r.vectors),
+                      "[green]verified[/]" if r.ok else f"[bold red]{len(r.problems)} problem(s)[/]")
+    out.print(table)
+    for r in results:
+        for problem in r.problems:
+            out.print(f"[bold red]{r.path.name}[/]: {problem}")
+    return EXIT_OK if all(r.ok for r in results) else EXIT_FALSIFIED
+
+
+def _vectors_check(args, out: Console, err: Console) -> int:
+    from atcs.proofs.vector_check import ImplementationError, ImplementationStartError, check
+
+    files = _vector_files("check", args.dir, args.function)
+    try:
+        outcomes = check(files, args.impl, rel_tol=args.rel_tol, abs_tol=args.abs_tol, timeout_s=args.timeout)
+    except ImplementationStartError as exc:
+        raise UsageError(f"vectors check: {exc}") from None
+    except ImplementationError as exc:
+        print(f"atcs: vectors check: {exc}", file=sys.stderr)
+        return EXIT_FALSIFIED
+    failed = [o for o in outcomes if not o.passed]
+    table = Table(title=f"atcs vectors check {args.dir} --impl {args.impl!r}")
+    for heading in ("function", "vectors", "passed", "failed"):
+        table.add_column(heading, justify="left" if heading == "function" else "right")
+    for vf in files:
+        mine = [o for o in outcomes if o.function == vf.node.name]
+        table.add_row(vf.node.name, str(len(mine)), str(sum(o.passed for o in mine)),
+                      str(sum(not o.passed for o in mine)))
+    out.print(table)
+    for o in failed:
+        out.print(f"[bold red]FAIL[/] {o.id} ({'; '.join(o.covers)}): {o.mismatch}")
+    out.print(f"{len(outcomes) - len(failed)} of {len(outcomes)} vectors passed")
+    return EXIT_FALSIFIED if failed else EXIT_OK
 
 
 if __name__ == "__main__":
