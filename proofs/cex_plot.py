@@ -5,8 +5,8 @@ What is drawn is read off the node's field names (DESIGN.md: names carry units),
 
 - speeds: every real state, input and output field ending in ``_mps`` (drawn in km/h), against time (step x
   cycle, :func:`atcs.proofs.waveform.cycle_s`) and, when the node has a position field, against distance;
-- the position field: ``front_m`` of the state, else of the inputs, else the first real state or input field
-  ending in ``front_m``;
+- the position field: ``front_m`` of the state, else of the inputs, else the first real scalar state or input
+  field whose name contains ``front`` and ends in ``_m`` (``measured_front_m``, ``front_max_m``);
 - locations: every real state, input and output field ending in ``_m``, against time;
 - lanes: every boolean state, input and output field, and the property's verdict ``holds``.
 
@@ -55,8 +55,8 @@ def plot_fields(node: Node) -> PlotFields:
     scalars = {role: [n for n in reals[role] if n in node.sorts(role)] for role in ROLES}
     position = next(((role, "front_m") for role in ("state", "inputs") if "front_m" in scalars[role]), None)
     if position is None:
-        position = next(((role, n) for role in ("state", "inputs") for n in scalars[role] if n.endswith("front_m")),
-                        None)
+        position = next(((role, n) for role in ("state", "inputs") for n in scalars[role]
+                         if "front" in n and n.endswith("_m")), None)
     return PlotFields(
         speeds=[(role, n) for role in ROLES for n in reals[role] if n.split("[")[0].endswith("_mps")],
         locations=[(role, n) for role in ROLES for n in reals[role] if n.split("[")[0].endswith("_m")],
