@@ -82,7 +82,10 @@ def plot_counterexample(node: Node, trace: Trace, replayed: Replay, path: str | 
     panels = [p for p, wanted in (("speed", fields.speeds), ("distance", fields.speeds and fields.position),
                                   ("locations", fields.locations), ("lanes", True)) if wanted]
     heights = {"speed": 3, "distance": 3, "locations": 3, "lanes": max(1.2, 0.32 * (len(fields.lanes) + 1))}
-    fig = Figure(figsize=(11, sum(heights[p] for p in panels) + 0.8), layout="constrained")
+    height_in = sum(heights[p] for p in panels) + 0.6 * len(panels) + 0.8
+    fig = Figure(figsize=(11, height_in))  # fixed margins: constrained layout would take half the drawing time
+    fig.subplots_adjust(left=0.17, right=0.98, top=1 - 0.75 / height_in, bottom=0.5 / height_in,
+                        hspace=0.6 * len(panels) / sum(heights[p] for p in panels))
     axes = dict(zip(panels, fig.subplots(len(panels), 1, squeeze=False,
                                          height_ratios=[heights[p] for p in panels])[:, 0], strict=True))
     fig.suptitle(f"{trace.property}: violated at step {k_bad} (t = {t_bad:g} s; one step = {cycle:g} s)")

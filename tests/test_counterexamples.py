@@ -240,6 +240,28 @@ class TestFloatReplay:
         d = floats.first_boolean
         assert (d.step, d.field, d.exact, d.float) == (0, "outputs.warning", True, False)
 
+    def test_smoothed_closed_loop_counterexample_on_a_boundary(self):
+        """A real trace: the coarse closed loop (tests/test_closed_loop.py) with the max safe front taken without
+        the odometry error. Its smoothed counterexample has the max safe front exactly on the EBI at step 0: no
+        EB exactly, EB in doubles. The exact replay reproduces the violation; the float run diverges there."""
+        from atcs.model import closed_loop
+        from atcs.model.train_data import seed000_train, subset026_national
+        from atcs.properties.closed_loop import closed_loop_properties, preset_data
+
+        coarse = preset_data(dataclasses.replace(seed000_train(), t_be_s=Fraction(8, 5)), subset026_national(),
+                             cycle_s=Fraction(4, 5))
+        prop = next(p for p in closed_loop_properties("coarse", coarse) if p.name == "closed_loop.no_overrun_coarse")
+        prop = dataclasses.replace(prop, lemmas=())
+        fault = (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m")
+        with patched(*fault):
+            result = prove(prop, timeout_s=300, max_k=12, smooth_cex=True)
+            assert result.status == "falsified" and result.smoothing.status == "minimal"
+            exact = reproduce(prop, result.trace)
+            floats = float_replay(prop, result.trace, exact)
+        d = floats.first_boolean
+        assert (d.step, d.field, d.exact, d.float) == (0, "next_state.eb_latched", False, True)
+        assert not exact.states[1]["eb_latched"]
+
     def test_largest_difference_per_field(self, false_alarm):
         prop, result, _ = false_alarm
         with patched(*SLACK_MUTANT):
