@@ -86,10 +86,13 @@ def build_parser() -> argparse.ArgumentParser:
                    help="per-property time limit, lemmas included; past it the verdict is unknown (default 600)")
     p.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
     p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
-                   help="where counterexamples are written as JSON and CSV (default ./counterexamples)")
+                   help="where counterexamples are written as JSON, CSV, VCD and PNG (default ./counterexamples)")
     p.add_argument("--witness-dir", metavar="DIR", default=None,
                    help="also write each proved property's witness runs (its assumptions and every implication's "
                    "condition reached) here as JSON")
+    p.add_argument("--smooth", action="store_true",
+                   help="make each counterexample one with the fewest input changes (same length; the time left "
+                   "within --timeout; the count before and after is in the reports)")
 
     f = sub.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it with "
                        "z3 and cvc5")
@@ -221,7 +224,7 @@ def _prove(args, out: Console, err: Console) -> int:
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
     with Progress(*columns, console=err, transient=True) as progress:
         task = progress.add_task("proving", total=len(props))
-        for result in suite.run(props, timeout_s=args.timeout, jobs=args.jobs):
+        for result in suite.run(props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth):
             results[result.name] = result
             progress.update(task, advance=1, description=f"{result.name}: {result.status}")
     wall = time.monotonic() - start
@@ -354,8 +357,14 @@ def _lemma_closure(prop, registry) -> set[str]:
 # --- replay ------------------------------------------------------------------------------
 
 
+EXIT_DIVERGED = 4
+"""``atcs replay``: the exact replay reproduces the violation, but the float run diverges (a boolean differs, a
+float is not finite, or the float run fails); 1 (not reproduced) takes precedence."""
+
+
 def _replay(args, out: Console, err: Console) -> int:
     from atcs.model.node import flatten
+    from atcs.proofs.float_replay import float_replay
     from atcs.proofs.trace import TraceFileError, format_value, from_json, replay
     from atcs.properties import PROPERTIES
 
@@ -388,7 +397,27 @@ def _replay(args, out: Console, err: Console) -> int:
     else:
         out.print(f"[bold red]violated at step {first}[/]"
                   + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})"))
-    return EXIT_OK if result.reproduced else EXIT_FALSIFIED
+
+    floats = float_replay(prop, trace, result)
+    if floats.largest:
+        gaps = Table(title="float run (IEEE doubles) against the exact run: the largest difference per field")
+        for heading in ("field", "|float - exact|", "step", "exact", "float"):
+            gaps.add_column(heading, justify="left" if heading == "field" else "right")
+        for name in sorted(floats.largest, key=floats.gap, reverse=True):
+            d = floats.largest[name]
+            gaps.add_row(name, f"{float(floats.gap(name)):.3g}", str(d.step), str(format_value(d.exact)), repr(d.float))
+        out.print(gaps)
+    for what, d in (("a boolean differs", floats.first_boolean), ("a number is not finite", floats.non_finite)):
+        if d is not None:
+            out.print(f"[bold red]the float run diverges: {what} first at {d.describe()}[/]")
+    if floats.error is not None:
+        out.print(f"[bold red]the float run fails at {floats.error}[/]")
+    if not floats.diverged:
+        out.print(f"the float run agrees with the exact run on every boolean over {floats.steps} steps"
+                  + ("" if floats.largest else ", and on every number"))
+    if not result.reproduced:
+        return EXIT_FALSIFIED
+    return EXIT_DIVERGED if floats.diverged else EXIT_OK
 
 
 # --- platforms ---------------------------------------------------------------------------

@@ -24,6 +24,7 @@ from atcs.model import ops
 from atcs.model.ops.symbolic import fresh_context
 from atcs.proofs.bmc import Bmc, Check
 from atcs.proofs.induction import Induction
+from atcs.proofs.smoothing import Smoothing, smooth
 from atcs.proofs.system import Unrolling
 from atcs.proofs.trace import Replay, ReplayError, Trace, extract, reproduce
 from atcs.proofs.vacuity import Witness, check_vacuity
@@ -45,6 +46,8 @@ class Result:
     replay: Replay | None = None
     witnesses: tuple[Witness, ...] = ()
     """For a proved property: runs showing its assumptions and each implication's condition reachable."""
+    smoothing: Smoothing | None = None
+    """For a counterexample asked to be smoothed (``smooth=True``): the input changes before and after."""
 
 
 class _Timeout(Exception):
@@ -56,10 +59,14 @@ class _Deadline:
         self.end = time.monotonic() + seconds
 
     def remaining(self) -> float:
-        left = self.end - time.monotonic()
+        left = self.left()
         if left <= 0:
             raise _Timeout
         return left
+
+    def left(self) -> float:
+        """The time left, 0 when none (never raises)."""
+        return max(self.end - time.monotonic(), 0.0)
 
 
 def check_lemma(prop: Property, lemma: Property) -> None:
@@ -81,31 +88,34 @@ def prove(
     lemmas: dict[str, Property] | None = None,
     max_k: int | None = None,
     proved: dict[str, Result] | None = None,
+    smooth_cex: bool = False,
     _chain: tuple[str, ...] = (),
 ) -> Result:
     """Prove or falsify ``prop`` within ``timeout_s`` seconds (lemmas' proofs included).
 
     ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry). ``proved``
     collects the lemma results of one run by name, so a lemma several properties share is proved once;
-    share it only between properties of the same registry, never across a mutated model.
+    share it only between properties of the same registry, never across a mutated model. With ``smooth_cex``
+    a counterexample is smoothed (:mod:`atcs.proofs.smoothing`) within the time left before it is replayed.
 
     Each proof (each lemma's too) builds its terms in a fresh z3 context, so its verdict and time do not
     depend on what the process proved before.
     """
     with fresh_context():
-        return _prove(prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, _chain=_chain)
+        return _prove(prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, smooth_cex=smooth_cex,
+                      _chain=_chain)
 
 
-def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
+def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Result:
     if timeout_s <= 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
     start = time.monotonic()
     deadline = _Deadline(timeout_s)
     max_k = prop.max_k if max_k is None else max_k
 
-    def result(status, engine="", k=None, message="", trace=None, replay=None, witnesses=()):
+    def result(status, engine="", k=None, message="", trace=None, replay=None, witnesses=(), smoothing=None):
         return Result(prop.name, prop.requirement, status, engine, k, time.monotonic() - start, message, trace, replay,
-                      tuple(witnesses))
+                      tuple(witnesses), smoothing)
 
     try:
         assumed = []
@@ -119,7 +129,7 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
             sub = proved.get(name) if proved is not None else None
             if sub is None:
                 sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas, proved=proved,
-                            _chain=(*_chain, prop.name))
+                            smooth_cex=smooth_cex, _chain=(*_chain, prop.name))
                 if proved is not None:
                     proved[name] = sub
             if sub.status not in ("proved", "vacuous"):  # a vacuous lemma still holds: assuming it is sound
@@ -133,12 +143,17 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, _chain) -> Result:
             # is too hard for the solver (the step of a broken model is typically the harder check)
             base = bmc.check(k, deadline.remaining())
             if base.result == "sat":
-                trace = extract(u, base.model, k)
+                model, smoothing = base.model, None
+                if smooth_cex:  # within the time left, never past it: the counterexample is kept either way
+                    model, smoothing = smooth(u, bmc.solver, k, base.model, deadline.left())
+                trace = extract(u, model, k)
                 try:
                     replayed = reproduce(prop, trace)
                 except ReplayError as exc:
-                    return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace)
-                return result("falsified", "bmc", k, f"violated at step {k}", trace, replayed)
+                    return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace,
+                                  smoothing=smoothing)
+                message = f"violated at step {k}" + (f"; {smoothing.describe()}" if smoothing else "")
+                return result("falsified", "bmc", k, message, trace, replayed, smoothing=smoothing)
             if base.result == "unknown":
                 return result("unknown", "bmc", k, _unknown(base, "BMC", k))
             step = induction.check(k, deadline.remaining())

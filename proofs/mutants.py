@@ -113,10 +113,11 @@ class MutantRun:
 
 
 def falsify(prop: Property, function: Callable, old: str, new: str, *, timeout_s: float = 120,
-            max_k: int | None = None) -> MutantRun:
+            max_k: int | None = None, smooth: bool = False) -> MutantRun:
     """Prove ``prop``, without its lemmas (a mutant's lemma may not hold), about the model with ``old`` replaced
     by ``new`` in ``function``: the node's own ``step`` or ``init`` gives a mutant node, any other function is
-    swapped in for the proof (:func:`patched`)."""
+    swapped in for the proof (:func:`patched`). ``smooth`` asks for the counterexample with the fewest input
+    changes (:mod:`atcs.proofs.smoothing`)."""
     from atcs.proofs.engine import prove
     from atcs.proofs.trace import replay, reproduce
 
@@ -127,7 +128,7 @@ def falsify(prop: Property, function: Callable, old: str, new: str, *, timeout_s
     else:
         mutated, context = real, patched(function, old, new)
     with context:
-        result = prove(mutated, timeout_s=timeout_s, max_k=max_k)
+        result = prove(mutated, timeout_s=timeout_s, max_k=max_k, smooth_cex=smooth)
         reproduced = reproduce(mutated, result.trace) if result.trace is not None else None
     on_real = replay(real, result.trace) if result.trace is not None else None
     return MutantRun(result, reproduced, on_real)

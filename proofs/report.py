@@ -5,11 +5,12 @@ from __future__ import annotations
 import json
 import os
 import tempfile
+import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 from atcs.proofs.engine import STATUSES, Result
-from atcs.proofs.trace import to_csv, to_json
+from atcs.proofs.trace import input_changes, to_csv, to_json
 from atcs.properties.property import Property
 
 
@@ -49,16 +50,20 @@ def check_writable_dir(option: str, path: str) -> None:
     _probe(option, path, existing)
 
 
-def write_atomic(path: str | Path, text: str) -> None:
-    """Write ``text`` to a temporary file beside ``path``, then rename it over ``path``."""
+def write_atomic(path: str | Path, text: str | bytes) -> None:
+    """Write ``text`` (or bytes) to a temporary file beside ``path``, then rename it over ``path``."""
     path = Path(path)
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)  # an ordinary file, not mkstemp's private 0600
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
+        if isinstance(text, bytes):
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(text)
+        else:
+            with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+                fh.write(text)
         os.replace(tmp, path)
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
@@ -66,13 +71,22 @@ def write_atomic(path: str | Path, text: str) -> None:
 
 
 def write_counterexample(directory: str | Path, prop: Property, result: Result) -> Path:
-    """Write ``<dir>/<property>.json`` and ``.csv`` for a falsified property; returns the JSON path."""
+    """Write ``<dir>/<property>.json``, ``.csv``, ``.vcd`` (:mod:`atcs.proofs.waveform`) and ``.png``
+    (:mod:`atcs.proofs.cex_plot`) for a falsified property; returns the JSON path."""
+    from atcs.proofs.cex_plot import plot_counterexample
+    from atcs.proofs.waveform import to_vcd
+
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     json_path = directory / f"{prop.name}.json"
     doc = to_json(result.trace, result.replay, requirement=prop.requirement)
+    if result.smoothing is not None:
+        doc["smoothing"] = result.smoothing.as_json()
     write_atomic(json_path, json.dumps(doc, indent=2) + "\n")
     write_atomic(directory / f"{prop.name}.csv", to_csv(result.trace, result.replay))
+    write_atomic(directory / f"{prop.name}.vcd", to_vcd(result.trace, result.replay,
+                                                       date=time.strftime("%Y-%m-%d %H:%M:%S %Z")))
+    plot_counterexample(prop.node, result.trace, result.replay, directory / f"{prop.name}.png")
     return json_path
 
 
@@ -89,6 +103,8 @@ def result_record(prop: Property, result: Result, counterexample: str | None) ->
         "seconds": round(result.seconds, 4),
         "message": result.message,
         "counterexample": counterexample,
+        "input_changes": None if result.trace is None else input_changes(result.trace),
+        "smoothing": None if result.smoothing is None else result.smoothing.as_json(),
         "witnesses": [{"what": w.what, "step": w.step} for w in result.witnesses],
     }
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 import json
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -158,6 +159,13 @@ def format_value(value):
     return ("-" if value < 0 else "") + text
 
 
+def input_changes(trace: Trace) -> int:
+    """The number of (step, input variable) pairs whose value differs from the previous step's (an array input
+    counts per element): what smoothing (:mod:`atcs.proofs.smoothing`) minimises."""
+    flat = [flatten(inputs) for inputs in trace.inputs]
+    return sum(now[name] != before[name] for before, now in itertools.pairwise(flat) for name in now)
+
+
 def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = "") -> dict[str, Any]:
     steps = []
     for k, inputs in enumerate(trace.inputs):
@@ -176,6 +184,7 @@ def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = 
         "requirement": requirement,
         "node": trace.node,
         "violation_step": trace.violation_step,
+        "input_changes": input_changes(trace),
         "params": {n: format_value(v) for n, v in trace.params.items()},
         "steps": steps,
         "final_state": {n: format_value(v) for n, v in trace.states[-1].items()},
