@@ -4,7 +4,8 @@
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
 (an ``error`` verdict is never a pass). ``replay``: 0 the violation is
-reproduced at the recorded step, 1 it is not (the model changed), 2 bad input.
+reproduced at the recorded step (and the float run agrees), 1 it is not (the model changed), 2 bad input,
+4 reproduced but the float run diverges.
 ``curves``: 0, or 2 for bad train or track data. ``platforms``: 0, or 2 for bad platform data.
 ``sim``: 0 the run ended with no violation, 1 a property or safety check failed, 2 a bad scenario.
 ``bench``: 0, or 2 for an unknown benchmark name. ``vectors generate``: 0 every goal settled (covered or shown
