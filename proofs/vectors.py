@@ -177,8 +177,9 @@ def _requirement_goals(search: _Search, node: Node, props: tuple[Property, ...],
                               "infeasible" if vac.status == "vacuous" else "unknown", vac.message))
 
 
-def _boundary_goals(search: _Search, node: Node, found: list[Decision], goals: list[Goal]) -> None:
-    for j, (comparison, decision) in enumerate(boundaries(found), start=1):
+def _boundary_goals(search: _Search, node: Node, numbered: list[tuple[int, z3.BoolRef, Decision]],
+                    goals: list[Goal]) -> None:
+    for j, comparison, decision in numbered:
         g = gap(comparison)
         observed = decides(decision, comparison)
         for label, offset in (("at", Fraction(0)), ("below", -BOUNDARY_DELTA), ("above", BOUNDARY_DELTA)):
@@ -195,22 +196,21 @@ def _boundary_goals(search: _Search, node: Node, found: list[Decision], goals: l
                 search.add(node, model, goal.id),))
 
 
-def _mcdc_goals(search: _Search, node: Node, found: list[Decision], goals: list[Goal]) -> None:
-    for d in found:
-        for j, c in enumerate(d.conditions, start=1):
-            goal = Goal("mcdc", f"{d.id}.C{j}", f"{short(c)} decides {d.where}: {short(d.term)}")
-            goals.append(goal)
-            differs = z3.Xor(d.term, search.copy(d.term))
-            flips = z3.Xor(c, search.copy(c))
-            others = [c2 == search.copy(c2) for c2 in d.conditions if c2 is not c]
-            check, reason = search.check(z3.And(differs, flips, *others), pair=True)
-            if check is not None and check.result == "unsat":
-                goal.text += " (masking)"
-                free = decides(d, c)
-                check, reason = search.check(z3.And(differs, flips, free, search.copy(free)), pair=True)
-            _settle(search, node, goal, check, reason, lambda model, goal=goal: (
-                search.add(node, model, f"{goal.id} (pair a)"),
-                search.add(node, model, f"{goal.id} (pair b)", twin=True)))
+def _mcdc_goals(search: _Search, node: Node, d: Decision, goals: list[Goal]) -> None:
+    for j, c in enumerate(d.conditions, start=1):
+        goal = Goal("mcdc", f"{d.id}.C{j}", f"{short(c)} decides {d.where}: {short(d.term)}")
+        goals.append(goal)
+        differs = z3.Xor(d.term, search.copy(d.term))
+        flips = z3.Xor(c, search.copy(c))
+        others = [c2 == search.copy(c2) for c2 in d.conditions if c2 is not c]
+        check, reason = search.check(z3.And(differs, flips, *others), pair=True)
+        if check is not None and check.result == "unsat":
+            goal.text += " (masking)"
+            free = decides(d, c)
+            check, reason = search.check(z3.And(differs, flips, free, search.copy(free)), pair=True)
+        _settle(search, node, goal, check, reason, lambda model, goal=goal: (
+            search.add(node, model, f"{goal.id} (pair a)"),
+            search.add(node, model, f"{goal.id} (pair b)", twin=True)))
 
 
 def _settle(search, node, goal: Goal, check, reason: str, add: Callable) -> None:
@@ -237,8 +237,10 @@ def generate(node: Node, props: tuple[Property, ...], *, timeout_s: float = 10,
     goals: list[Goal] = []
     found = decisions(frame)
     _requirement_goals(search, node, props, goals)
-    _boundary_goals(search, node, found, goals)
-    _mcdc_goals(search, node, found, goals)
+    numbered = [(j, c, d) for j, (c, d) in enumerate(boundaries(found), start=1)]
+    for d in found:  # decision by decision, so a budget that runs out leaves whole decisions, not a kind, unknown
+        _boundary_goals(search, node, [b for b in numbered if b[2] is d], goals)
+        _mcdc_goals(search, node, d, goals)
     vectors = list(search.vectors.values())
     for n, vector in enumerate(vectors, start=1):
         vector.id = f"{node.name}-{n:04d}"
