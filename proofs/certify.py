@@ -79,20 +79,45 @@ def depths_from_report(path: str | Path) -> dict[str, int]:
     return depths
 
 
-def certify_one(name: str, k: int, timeout_s: float) -> Certified:
-    """The certificate of one registered property proved at depth ``k``, checked by every solver."""
+def solver_timeouts(timeout_s: float | Mapping[str, float]) -> dict[str, float]:
+    """Each solver's per-check time limit: one number for both, or one per solver (every solver named)."""
+    limits = dict(timeout_s) if isinstance(timeout_s, Mapping) else {s: timeout_s for s in SOLVERS}
+    if set(limits) != set(SOLVERS):
+        raise ValueError(f"timeout_s must give a limit for each of {', '.join(SOLVERS)}, got {sorted(limits)!r}")
+    for solver, limit in limits.items():
+        if isinstance(limit, bool) or not isinstance(limit, (int, float)) or not limit > 0:
+            raise ValueError(f"timeout_s[{solver!r}] must be a positive number of seconds, got {limit!r}")
+    return limits
+
+
+def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float]) -> Certified:
+    """The certificate of one registered property proved at depth ``k``, checked by every solver within its
+    per-check time limit (:func:`solver_timeouts`)."""
+    limits = solver_timeouts(timeout_s)
     prop = PROPERTIES[name]
     try:
         obs = obligations(prop, k, PROPERTIES)
     except Exception as exc:  # the model could not be built: an error, never a pass
         return Certified(name, prop.requirement, k, prop.lemmas, (), (), "error", f"{type(exc).__name__}: {exc}")
-    checks = tuple(check_obligation(solver, ob, timeout_s) for ob in obs for solver in SOLVERS)
-    return Certified(name, prop.requirement, k, prop.lemmas, obs, checks)
+    checks = []
+    gave_up: dict[str, str] = {}
+    for ob in obs:
+        for solver in SOLVERS:
+            if solver in gave_up:  # that solver cannot confirm this property any more: say so, do not wait again
+                checks.append(SolverCheck(solver, ob.check, "unknown", 0.0, f"not checked: {gave_up[solver]}"))
+                continue
+            check = check_obligation(solver, ob, limits[solver])
+            checks.append(check)
+            if check.verdict == "unknown":
+                gave_up[solver] = f"{solver} said unknown on {ob.check}"
+    return Certified(name, prop.requirement, k, prop.lemmas, obs, tuple(checks))
 
 
-def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float, jobs: int = 1,
+def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float | Mapping[str, float], jobs: int = 1,
         on_start: Callable[[Property], None] = lambda p: None) -> Iterator[Certified]:
-    """Yield the certificate of each property in ``depths``, checked, in completion order."""
+    """Yield the certificate of each property in ``depths``, checked, in completion order (``timeout_s``: one
+    per-check limit for both solvers, or one per solver)."""
+    timeout_s = solver_timeouts(timeout_s)
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     todo = [p for p in props if p.name in depths]

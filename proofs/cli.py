@@ -86,7 +86,11 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--dir", metavar="DIR", default="certificates",
                    help="where the scripts and certificates.json are written (default ./certificates)")
     f.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=600.0,
-                   help="per-check time limit of each solver, and per-property limit of the proving (default 600)")
+                   help="per-property limit of the proving, and per-check limit of each solver that has no "
+                   "limit of its own (default 600)")
+    for solver in ("z3", "cvc5"):
+        f.add_argument(f"--{solver}-timeout", metavar="SECONDS", type=_positive_float, default=None,
+                       help=f"per-check time limit of {solver}; past it the check is unknown (default --timeout)")
     f.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
 
     r = sub.add_parser("replay", help="replay a counterexample exactly and show the violating step")
@@ -255,9 +259,10 @@ def _certify(args, out: Console, err: Console) -> int:
                     depths[result.name] = result.k
                 progress.update(task, advance=1, description=f"proving {result.name}: {result.status}")
     results = {}
+    limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
     with Progress(*columns, console=err, transient=True) as progress:
         task = progress.add_task("certifying", total=sum(p.name in depths for p in wanted))
-        for c in certify.run(wanted, depths, timeout_s=args.timeout, jobs=args.jobs):
+        for c in certify.run(wanted, depths, timeout_s=limits, jobs=args.jobs):
             results[c.name] = c
             progress.update(task, advance=1, description=f"certifying {c.name}")
     certify.settle(results, depths)
@@ -279,7 +284,8 @@ def _certify(args, out: Console, err: Console) -> int:
     counts = {s: sum(r["status"] == s for r in records) for s in _CERT_STYLE}
     report.write_atomic(directory / "certificates.json", json.dumps(
         {"tool": "atcs certify", "solvers": list(certify.SOLVERS), "solver_versions": certify.solver_versions(),
-         "timeout_s": args.timeout, "wall_s": round(wall, 3), "summary": counts, "properties": records},
+         "timeout_s": args.timeout, "solver_timeout_s": limits, "wall_s": round(wall, 3), "summary": counts,
+         "properties": records},
         indent=2) + "\n")
 
     table = Table(title=f"atcs certify: {len(props)} properties in {wall:.2f} s ({directory})")
