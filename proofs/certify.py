@@ -168,8 +168,14 @@ def settle(results: Mapping[str, Certified], depths: Mapping[str, int]) -> None:
 
 def _message(c: Certified) -> str:
     bad = [ch for ch in c.checks if ch.verdict != "unsat"]
-    return "; ".join(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "")
-                     for ch in bad)
+    said = [ch for ch in bad if not ch.reason.startswith("not checked: ")]
+    skipped: dict[str, int] = {}
+    for ch in bad:
+        if ch not in said:
+            skipped[ch.reason] = skipped.get(ch.reason, 0) + 1
+    return "; ".join([*(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "")
+                        for ch in said),
+                      *(f"{n} {'check' if n == 1 else 'checks'} {why}" for why, n in skipped.items())])
 
 
 def record(c: Certified, directory: Path | None) -> dict:

@@ -136,6 +136,8 @@ class TestScripts:
         assert [ch.check for ch in later] == ["step", "invariant"]
         assert all(ch.verdict == "unknown" and ch.reason == "not checked: cvc5 said unknown on base" for ch in later)
         assert c.own_status() == "unconfirmed" and c.confirmed_by == ("z3",)
+        settle({c.name: c}, {c.name: 1})
+        assert c.message == "cvc5 says unknown on base (timeout); 2 checks not checked: cvc5 said unknown on base"
 
     def test_z3_only_leaves_the_property_unconfirmed_and_says_why(self, tmp_path):
         report = tmp_path / "r.json"
