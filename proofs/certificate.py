@@ -35,8 +35,8 @@ VERDICTS = ("unsat", "sat", "unknown")
 
 CVC5_OPTIONS = {"incremental": "false"}
 """The options cvc5 checks every script with, set through its API before the script is read (README,
-``atcs certify``). A script has one ``(check-sat)``: cvc5's API solver is incremental by default, which keeps it
-from the preprocessing of a one-shot check; without it the closed-loop step cases take it about half the time."""
+``atcs certify``). A script has one ``(check-sat)``; cvc5's API solver is incremental by default, and without
+that mode it answers the closed-loop step case that had no answer in 660 s in 47 s."""
 
 
 @dataclass(frozen=True)
