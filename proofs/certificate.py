@@ -33,6 +33,11 @@ from atcs.properties.property import Property
 SOLVERS = ("z3", "cvc5")
 VERDICTS = ("unsat", "sat", "unknown")
 
+CVC5_OPTIONS = {"incremental": "false"}
+"""The options cvc5 checks every script with, set through its API before the script is read (README,
+``atcs certify``). A script has one ``(check-sat)``; cvc5's API solver is incremental by default, and without
+that mode it answers the closed-loop step case that had no answer in 660 s in 47 s."""
+
 
 @dataclass(frozen=True)
 class Obligation:
@@ -57,6 +62,8 @@ class SolverCheck:
     """``unsat`` (confirmed), ``sat`` (contradicts the proof) or ``unknown`` (with the solver's reason)."""
     seconds: float
     reason: str = ""
+    resource_units: int | None = None
+    """cvc5's count of the resource units it spent (deterministic: the same on any machine), None for z3."""
 
 
 def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple[Obligation, ...]:
@@ -98,16 +105,25 @@ def _script(header: str, check: str, assertions: list) -> str:
             f"(set-logic ALL)\n{body}")
 
 
-def check_obligation(solver: str, obligation: Obligation, timeout_s: float) -> SolverCheck:
+def check_obligation(solver: str, obligation: Obligation, timeout_s: float,
+                     resource_limit: int | None = None) -> SolverCheck:
     """Parse the obligation's script afresh and check it with ``solver`` (``z3`` or ``cvc5``) within
-    ``timeout_s`` seconds."""
+    ``timeout_s`` seconds and, for cvc5, within ``resource_limit`` resource units (its ``rlimit-per``: a limit
+    that gives the same verdict on any machine; None for none)."""
     if solver not in SOLVERS:
         raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {solver!r}")
     if not timeout_s > 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
+    if resource_limit is not None and (solver != "cvc5" or isinstance(resource_limit, bool)
+                                       or not isinstance(resource_limit, int) or resource_limit < 1):
+        raise ValueError(f"resource_limit must be a positive whole number of cvc5 resource units (cvc5 only), "
+                         f"got {resource_limit!r} for {solver}")
     start = time.monotonic()
-    verdict, reason = (_z3 if solver == "z3" else _cvc5)(obligation.script, timeout_s)
-    return SolverCheck(solver, obligation.check, verdict, time.monotonic() - start, reason)
+    if solver == "z3":
+        verdict, reason, units = (*_z3(obligation.script, timeout_s), None)
+    else:
+        verdict, reason, units = _cvc5(obligation.script, timeout_s, resource_limit)
+    return SolverCheck(solver, obligation.check, verdict, time.monotonic() - start, reason, units)
 
 
 def _z3(script: str, timeout_s: float) -> tuple[str, str]:
@@ -123,12 +139,16 @@ def _z3(script: str, timeout_s: float) -> tuple[str, str]:
     return str(verdict), ""
 
 
-def _cvc5(script: str, timeout_s: float) -> tuple[str, str]:
+def _cvc5(script: str, timeout_s: float, resource_limit: int | None) -> tuple[str, str, int]:
     import cvc5
 
     terms = cvc5.TermManager()
     solver = cvc5.Solver(terms)
+    for option, value in CVC5_OPTIONS.items():
+        solver.setOption(option, value)
     solver.setOption("tlimit-per", str(max(1, int(timeout_s * 1000))))
+    if resource_limit is not None:
+        solver.setOption("rlimit-per", str(resource_limit))
     symbols = cvc5.SymbolManager(terms)
     parser = cvc5.InputParser(solver, symbols)
     parser.setStringInput(cvc5.InputLanguage.SMT_LIB_2_6, script, "certificate")
@@ -138,8 +158,9 @@ def _cvc5(script: str, timeout_s: float) -> tuple[str, str]:
         if command.isNull():
             break
         answers.append(command.invoke(solver, symbols).strip())
+    units = solver.getStatistics().get(True, True)["resource::resourceUnitsUsed"]["value"]
     answer = answers[-1] if answers else ""
-    verdict, _, reason = answer.partition(" ")  # e.g. "unknown (TIMEOUT)"
+    verdict, _, reason = answer.partition(" ")  # e.g. "unknown (TIMEOUT)", "unknown (RESOURCEOUT)"
     if verdict not in VERDICTS:
-        return "unknown", f"cvc5 answered {answer!r}"
-    return verdict, reason.strip("()").lower() if verdict == "unknown" else ""
+        return "unknown", f"cvc5 answered {answer!r}", units
+    return verdict, reason.strip("()").lower() if verdict == "unknown" else "", units

@@ -3,14 +3,16 @@
 The depth ``k`` of each proof comes from a run of the prover (or a prove report, ``--report``). A property is
 ``confirmed`` by a solver when that solver finds every check of its certificate unsat, and ``certified`` when
 both solvers confirm it and every lemma it assumes is certified. A ``sat`` from either solver is a
-``disagreement``: an error. An ``unknown`` leaves the property ``unconfirmed``.
+``disagreement``: an error. An ``unknown`` leaves the property ``unconfirmed``; that solver then has no say on
+the property's later checks (recorded as ``unknown``, "not checked"), so a time-out costs one time limit per
+property, not one per check. Each solver has its own per-check time limit.
 """
 
 from __future__ import annotations
 
 import json
 import multiprocessing
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 from pathlib import Path
@@ -79,33 +81,62 @@ def depths_from_report(path: str | Path) -> dict[str, int]:
     return depths
 
 
-def certify_one(name: str, k: int, timeout_s: float) -> Certified:
-    """The certificate of one registered property proved at depth ``k``, checked by every solver."""
+def solver_timeouts(timeout_s: float | Mapping[str, float]) -> dict[str, float]:
+    """Each solver's per-check time limit: one number for both, or one per solver (every solver named)."""
+    limits = dict(timeout_s) if isinstance(timeout_s, Mapping) else {s: timeout_s for s in SOLVERS}
+    if set(limits) != set(SOLVERS):
+        raise ValueError(f"timeout_s must give a limit for each of {', '.join(SOLVERS)}, got {sorted(limits)!r}")
+    for solver, limit in limits.items():
+        if isinstance(limit, bool) or not isinstance(limit, (int, float)) or not limit > 0:
+            raise ValueError(f"timeout_s[{solver!r}] must be a positive number of seconds, got {limit!r}")
+    return limits
+
+
+def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float],
+                cvc5_resource_limit: int | None = None, z3_only: bool = False) -> Certified:
+    """The certificate of one registered property proved at depth ``k``, checked by every solver within its
+    per-check time limit (:func:`solver_timeouts`), cvc5 also within ``cvc5_resource_limit`` units a check;
+    with ``z3_only`` cvc5 is not asked (its checks say so, and the property stays unconfirmed)."""
+    limits = solver_timeouts(timeout_s)
     prop = PROPERTIES[name]
     try:
         obs = obligations(prop, k, PROPERTIES)
     except Exception as exc:  # the model could not be built: an error, never a pass
         return Certified(name, prop.requirement, k, prop.lemmas, (), (), "error", f"{type(exc).__name__}: {exc}")
-    checks = tuple(check_obligation(solver, ob, timeout_s) for ob in obs for solver in SOLVERS)
-    return Certified(name, prop.requirement, k, prop.lemmas, obs, checks)
+    checks = []
+    gave_up = {"cvc5": "cvc5 was not asked (--z3-only)"} if z3_only else {}
+    for ob in obs:
+        for solver in SOLVERS:
+            if solver in gave_up:  # that solver cannot confirm this property any more: say so, do not wait again
+                checks.append(SolverCheck(solver, ob.check, "unknown", 0.0, f"not checked: {gave_up[solver]}"))
+                continue
+            check = check_obligation(solver, ob, limits[solver], cvc5_resource_limit if solver == "cvc5" else None)
+            checks.append(check)
+            if check.verdict == "unknown":
+                gave_up[solver] = f"{solver} said unknown on {ob.check}"
+    return Certified(name, prop.requirement, k, prop.lemmas, obs, tuple(checks))
 
 
-def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float, jobs: int = 1,
+def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float | Mapping[str, float], jobs: int = 1,
+        cvc5_resource_limit: int | None = None, z3_only: Collection[str] = (),
         on_start: Callable[[Property], None] = lambda p: None) -> Iterator[Certified]:
-    """Yield the certificate of each property in ``depths``, checked, in completion order."""
+    """Yield the certificate of each property in ``depths``, checked, in completion order (``timeout_s``: one
+    per-check limit for both solvers, or one per solver; ``z3_only``: the properties cvc5 is not asked about)."""
+    timeout_s = solver_timeouts(timeout_s)
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     todo = [p for p in props if p.name in depths]
     if jobs == 1 or len(todo) <= 1:
         for prop in todo:
             on_start(prop)
-            yield certify_one(prop.name, depths[prop.name], timeout_s)
+            yield certify_one(prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only)
         return
     with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
         futures = []
         for prop in todo:
             on_start(prop)
-            futures.append(pool.submit(certify_one, prop.name, depths[prop.name], timeout_s))
+            futures.append(pool.submit(certify_one, prop.name, depths[prop.name], timeout_s, cvc5_resource_limit,
+                                       prop.name in z3_only))
         for future in as_completed(futures):
             yield future.result()
 
@@ -137,8 +168,14 @@ def settle(results: Mapping[str, Certified], depths: Mapping[str, int]) -> None:
 
 def _message(c: Certified) -> str:
     bad = [ch for ch in c.checks if ch.verdict != "unsat"]
-    return "; ".join(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "")
-                     for ch in bad)
+    said = [ch for ch in bad if not ch.reason.startswith("not checked: ")]
+    skipped: dict[str, int] = {}
+    for ch in bad:
+        if ch not in said:
+            skipped[ch.reason] = skipped.get(ch.reason, 0) + 1
+    return "; ".join([*(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "")
+                        for ch in said),
+                      *(f"{n} {'check' if n == 1 else 'checks'} {why}" for why, n in skipped.items())])
 
 
 def record(c: Certified, directory: Path | None) -> dict:
@@ -148,7 +185,8 @@ def record(c: Certified, directory: Path | None) -> dict:
         "confirmed_by": list(c.confirmed_by), "message": c.message,
         "checks": [{"check": ob.check, "claim": ob.claim, "file": f"{c.name}/{ob.check}.smt2" if directory else None,
                     "sha256": ob.sha256,
-                    **{ch.solver: {"verdict": ch.verdict, "seconds": round(ch.seconds, 3), "reason": ch.reason}
+                    **{ch.solver: {"verdict": ch.verdict, "seconds": round(ch.seconds, 3), "reason": ch.reason,
+                                   **({} if ch.resource_units is None else {"resource_units": ch.resource_units})}
                        for ch in c.checks if ch.check == ob.check}}
                    for ob in c.obligations],
     }

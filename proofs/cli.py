@@ -16,6 +16,7 @@ vector passed, 1 one failed or the implementation stopped; all 2 for bad input.
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import json
 import sys
 import time
@@ -103,7 +104,17 @@ def build_parser() -> argparse.ArgumentParser:
     f.add_argument("--dir", metavar="DIR", default="certificates",
                    help="where the scripts and certificates.json are written (default ./certificates)")
     f.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=600.0,
-                   help="per-check time limit of each solver, and per-property limit of the proving (default 600)")
+                   help="per-property limit of the proving, and per-check limit of each solver that has no "
+                   "limit of its own (default 600)")
+    for solver in ("z3", "cvc5"):
+        f.add_argument(f"--{solver}-timeout", metavar="SECONDS", type=_positive_float, default=None,
+                       help=f"per-check time limit of {solver}; past it the check is unknown (default --timeout)")
+    f.add_argument("--cvc5-rlimit", metavar="UNITS", type=_positive_int, default=None,
+                   help="also bound each cvc5 check by this many of its resource units (rlimit-per): the same "
+                   "verdict on any machine; past it the check is unknown (default: no bound)")
+    f.add_argument("--z3-only", metavar="PATTERN[,PATTERN...]", default=None,
+                   help="globs over property names: check these with z3 alone (cvc5 is not asked; they stay "
+                   "unconfirmed)")
     f.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
 
     r = sub.add_parser("replay", help="replay a counterexample exactly and show the violating step")
@@ -281,6 +292,7 @@ def _certify(args, out: Console, err: Console) -> int:
         report.check_writable_dir("--dir", args.dir)
     except OutputPathError as exc:
         raise UsageError(f"certify: {exc}") from None
+    z3_only = _z3_only(args.z3_only, PROPERTIES)
     start = time.monotonic()
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
     needed = {lemma for p in props for lemma in _lemma_closure(p, PROPERTIES)}
@@ -299,9 +311,11 @@ def _certify(args, out: Console, err: Console) -> int:
                     depths[result.name] = result.k
                 progress.update(task, advance=1, description=f"proving {result.name}: {result.status}")
     results = {}
+    limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
     with Progress(*columns, console=err, transient=True) as progress:
         task = progress.add_task("certifying", total=sum(p.name in depths for p in wanted))
-        for c in certify.run(wanted, depths, timeout_s=args.timeout, jobs=args.jobs):
+        for c in certify.run(wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit,
+                             z3_only=z3_only):
             results[c.name] = c
             progress.update(task, advance=1, description=f"certifying {c.name}")
     certify.settle(results, depths)
@@ -323,7 +337,10 @@ def _certify(args, out: Console, err: Console) -> int:
     counts = {s: sum(r["status"] == s for r in records) for s in _CERT_STYLE}
     report.write_atomic(directory / "certificates.json", json.dumps(
         {"tool": "atcs certify", "solvers": list(certify.SOLVERS), "solver_versions": certify.solver_versions(),
-         "timeout_s": args.timeout, "wall_s": round(wall, 3), "summary": counts, "properties": records},
+         "timeout_s": args.timeout, "solver_timeout_s": limits,
+         "cvc5_resource_limit": args.cvc5_rlimit,
+         "z3_only": sorted(z3_only & {p.name for p in wanted}), "wall_s": round(wall, 3), "summary": counts,
+         "properties": records},
         indent=2) + "\n")
 
     table = Table(title=f"atcs certify: {len(props)} properties in {wall:.2f} s ({directory})")
@@ -341,6 +358,17 @@ def _certify(args, out: Console, err: Console) -> int:
     if counts["certified"] != len(records):
         return EXIT_UNKNOWN
     return EXIT_OK
+
+
+def _z3_only(patterns: str | None, registry) -> set[str]:
+    """The properties ``--z3-only`` names; a glob that matches none is a usage error."""
+    names: set[str] = set()
+    for pattern in [] if patterns is None else patterns.split(","):
+        matched = {n for n in registry if fnmatch.fnmatchcase(n, pattern.strip())}
+        if not matched:
+            raise UsageError(f"certify: --z3-only {pattern.strip()!r} matches no property")
+        names |= matched
+    return names
 
 
 def _lemma_closure(prop, registry) -> set[str]:

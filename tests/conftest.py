@@ -6,6 +6,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -21,24 +22,63 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 _PROOF_RUN: dict = {}
 
+CERTIFY_TIMEOUTS_S = {"z3": 600, "cvc5": 300}
+"""Per-check time limits of the session's ``atcs certify`` run: z3's is five times its longest check, cvc5's
+seven times its longest check on the properties it confirms in the suite (README, ``atcs certify``), so that a
+slower machine gives the same verdicts."""
+
+CERTIFY_Z3_ONLY = ("closed_loop.braking_invariant_*", "separation.braking_invariant_*", "separation.no_collision_rbd_*",
+                   "mrsp.psl_matches_definition", "mrsp.restricted_matches_definition", "mrsp.incremental_equals_full")
+"""The certificates the suite checks with z3 alone (``--z3-only``): cvc5 confirms them, but in tens of seconds a
+step case over 16 cases, or in minutes on one check (README, ``atcs certify``), more than the suite's time."""
+
+_BACKGROUND = """
+import sys
+from pathlib import Path
+from atcs.proofs.cli import main
+prove, certify, done, certify_out = sys.argv[1], sys.argv[2], Path(sys.argv[3]), sys.argv[4]
+code = main(prove.split())
+done.write_text(str(code))
+if certify:
+    sys.stdout.flush()
+    sys.stdout = sys.stderr = open(certify_out, "w")
+    code = main(certify.split())
+sys.exit(code)
+"""
+
+
+def _uses(item, fixture: str) -> bool:
+    return fixture in getattr(item, "fixturenames", ())
+
 
 def pytest_collection_modifyitems(session, config, items):
-    """The tests that read the session's proof report run last, so the rest overlaps the proof run."""
-    items.sort(key=lambda item: "proof_suite_run" in getattr(item, "fixturenames", ()))
+    """The tests that read the session's proof report run last, so the rest overlaps the proof run; those that
+    read its certificates after them."""
+    items.sort(key=lambda item: (_uses(item, "proof_suite_run") or _uses(item, "certify_suite_run"),
+                                 _uses(item, "certify_suite_run")))
 
 
 def pytest_collection_finish(session):
     """Start ``atcs prove --jobs 2`` over the whole registry as soon as the tests that read its report are
-    collected, so its two workers prove while this process runs the other tests."""
-    if not any("proof_suite_run" in getattr(item, "fixturenames", ()) for item in session.items):
+    collected, so its two workers prove while this process runs the other tests; when tests read the
+    certificates, the same subprocess then runs ``atcs certify --report`` on that report (no proof runs twice)."""
+    proofs = any(_uses(item, "proof_suite_run") for item in session.items)
+    certificates = any(_uses(item, "certify_suite_run") for item in session.items)
+    if not (proofs or certificates):
         return
     out_dir = Path(tempfile.mkdtemp(prefix="atcs-prove-"))
     paths = SimpleNamespace(json=out_dir / "r.json", junit=out_dir / "r.xml", cex=out_dir / "cex",
-                            stdout=out_dir / "stdout.txt")
-    argv = ["prove", "--jobs", "2", "--json", str(paths.json), "--junit", str(paths.junit), "--cex-dir", str(paths.cex)]
+                            stdout=out_dir / "stdout.txt", proved=out_dir / "prove.exit",
+                            certificates=out_dir / "certificates", certify_stdout=out_dir / "certify.txt")
+    prove = ["prove", "--jobs", "2", "--json", str(paths.json), "--junit", str(paths.junit),
+             "--cex-dir", str(paths.cex)]
+    certify = ["certify", "--report", str(paths.json), "--dir", str(paths.certificates), "--jobs", "2",
+               *(a for solver, limit in CERTIFY_TIMEOUTS_S.items() for a in (f"--{solver}-timeout", str(limit))),
+               "--z3-only", ",".join(CERTIFY_Z3_ONLY)]
     with paths.stdout.open("w") as stdout:
         process = subprocess.Popen(
-            [sys.executable, "-c", "import sys; from atcs.proofs.cli import main; sys.exit(main(sys.argv[1:]))", *argv],
+            [sys.executable, "-c", _BACKGROUND, " ".join(prove), " ".join(certify) if certificates else "",
+             str(paths.proved), str(paths.certify_stdout)],
             stdout=stdout, stderr=subprocess.STDOUT)
     _PROOF_RUN.update(process=process, paths=paths, dir=out_dir)
 
@@ -58,9 +98,27 @@ def proof_suite_run():
     per test session in a subprocess (started at collection): the tests of the command line and of each proof
     module read it instead of proving again."""
     process, paths = _PROOF_RUN["process"], _PROOF_RUN["paths"]
-    code = process.wait()
+    while not paths.proved.exists() and process.poll() is None:  # the same process may go on to certify
+        time.sleep(0.5)
+    code = int(paths.proved.read_text()) if paths.proved.exists() else process.wait()
     if not paths.json.exists():
         pytest.fail(f"atcs prove exited with {code} and wrote no report:\n{paths.stdout.read_text()}")
     doc = json.loads(paths.json.read_text())
     return SimpleNamespace(code=code, doc=doc, by_name={p["name"]: p for p in doc["properties"]},
                            stdout=paths.stdout.read_text(), json=paths.json, junit=paths.junit, cex=paths.cex)
+
+
+@pytest.fixture(scope="session")
+def certify_suite_run(proof_suite_run):
+    """``atcs certify --report`` on the session's prove report, both solvers (z3 alone on :data:`CERTIFY_Z3_ONLY`),
+    :data:`CERTIFY_TIMEOUTS_S`, two workers, run by the proof run's subprocess once it has proved."""
+    process, paths = _PROOF_RUN["process"], _PROOF_RUN["paths"]
+    code = process.wait()
+    listing = paths.certificates / "certificates.json"
+    if not listing.exists():
+        output = paths.certify_stdout.read_text() if paths.certify_stdout.exists() else ""
+        pytest.fail(f"atcs certify exited with {code} and wrote no certificates.json:\n{output}")
+    doc = json.loads(listing.read_text())
+    return SimpleNamespace(code=code, doc=doc, by_name={p["name"]: p for p in doc["properties"]},
+                           dir=paths.certificates, stdout=paths.certify_stdout.read_text(),
+                           timeouts_s=CERTIFY_TIMEOUTS_S, z3_only=CERTIFY_Z3_ONLY)

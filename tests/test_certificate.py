@@ -3,14 +3,15 @@ certificate, or one at too shallow a depth, is refuted by both; the scripts are 
 report is refused with the file, the field and the value."""
 
 import dataclasses
+import fnmatch
 import hashlib
 import json
 
 import pytest
 import z3
 
-from atcs.proofs.certificate import SOLVERS, check_obligation, obligations
-from atcs.proofs.certify import Certified, certify_one, depths_from_report, run, settle
+from atcs.proofs.certificate import SOLVERS, SolverCheck, check_obligation, obligations
+from atcs.proofs.certify import Certified, certify_one, depths_from_report, settle, solver_timeouts
 from atcs.proofs.cli import main
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import mutant_property
@@ -20,20 +21,41 @@ GRANTS_TAKEN = ("o.ite(free, code(GRANT), code(REFUSE))", "code(GRANT)")
 """The resource manager grants a resource another train owns (the mutant of tests/test_resources.py)."""
 
 
-CERTIFIED_IN_CI = ("supervision", "authority", "deceleration", "doors")
-"""The modules whose certificates both solvers confirm in seconds; README gives the figures for the rest."""
-
-
 class TestProvedProperties:
-    def test_both_solvers_confirm_every_certificate_of_these_modules(self, proof_suite_run):
-        depths = depths_from_report(proof_suite_run.json)  # the session's atcs prove run (conftest.py)
-        props = [p for p in PROPERTIES.values() if p.module in CERTIFIED_IN_CI]
-        assert len(props) == 25 and all(p.name in depths for p in props)
-        results = {c.name: c for c in run(props, depths, timeout_s=120)}
-        settle(results, depths)
-        refused = {n: c.message for n, c in results.items() if c.status != "certified"}
-        assert not refused, refused
-        assert all(c.confirmed_by == SOLVERS and c.k == depths[n] for n, c in results.items())
+    def test_every_proved_property_is_certified_the_z3_only_ones_by_z3(self, certify_suite_run, proof_suite_run):
+        # the session's atcs certify --report on the session's atcs prove report (conftest.py)
+        depths = depths_from_report(proof_suite_run.json)
+        assert len(depths) == len(PROPERTIES)
+        doc = certify_suite_run.doc
+        assert doc["solver_timeout_s"] == certify_suite_run.timeouts_s and set(doc["solver_versions"]) == set(SOLVERS)
+        z3_only = {n for n in depths if any(fnmatch.fnmatchcase(n, g) for g in certify_suite_run.z3_only)}
+        assert doc["z3_only"] == sorted(z3_only) and len(z3_only) == 11
+        assert set(certify_suite_run.by_name) == set(depths)
+        wrong = {}
+        for name, r in certify_suite_run.by_name.items():
+            assert r["k"] == depths[name] and r["checks"]
+            assert all(c["z3"]["verdict"] == "unsat" for c in r["checks"]), (name, r["message"])
+            assert not any(c["cvc5"]["verdict"] == "sat" for c in r["checks"]), (name, r["message"])
+            for c in r["checks"]:
+                text = (certify_suite_run.dir / c["file"]).read_text()
+                assert hashlib.sha256(text.encode()).hexdigest() == c["sha256"]
+            if name in z3_only:  # cvc5 not asked: z3 alone confirms them here (README gives cvc5's figures)
+                assert r["status"] == "unconfirmed" and r["confirmed_by"] == ["z3"]
+                assert all(c["cvc5"]["reason"] == "not checked: cvc5 was not asked (--z3-only)" for c in r["checks"])
+                continue
+            if r["confirmed_by"] != list(SOLVERS) or (r["status"] != "certified" and not _rests_on_z3_only(
+                    name, certify_suite_run.by_name, z3_only)):
+                wrong[name] = r["message"]
+        assert not wrong, wrong
+        assert certify_suite_run.code == (0 if doc["summary"]["certified"] == len(depths) else 3)
+
+
+def _rests_on_z3_only(name: str, records: dict, z3_only: set[str]) -> bool:
+    """The property is unconfirmed only because a lemma it rests on (directly or not) was checked by z3 alone."""
+    lemma = records[name]["message"].removeprefix("lemma ").removesuffix(" is unconfirmed")
+    if records[name]["status"] != "unconfirmed" or lemma not in records[name]["lemmas"]:
+        return False
+    return lemma in z3_only or _rests_on_z3_only(lemma, records, z3_only)
 
 
 class TestRefuted:
@@ -69,8 +91,10 @@ def _deeper_than_zero() -> tuple[str, int]:
 
 class TestScripts:
     def test_certify_proves_first_and_writes_standalone_scripts(self, tmp_path, capsys):
-        assert main(["certify", "--only", "position.rear_in_interval", "--dir", str(tmp_path)]) == 0
+        assert main(["certify", "--only", "position.rear_in_interval", "--dir", str(tmp_path),
+                     "--cvc5-timeout", "90"]) == 0
         doc = json.loads((tmp_path / "certificates.json").read_text())
+        assert doc["solver_timeout_s"] == {"z3": 600.0, "cvc5": 90.0}  # z3's is --timeout's default
         (entry,) = doc["properties"]  # the lemma is certified, but only what --only names is reported
         assert entry["status"] == "certified" and entry["lemmas"] == ["position.front_in_interval"]
         assert set(doc["solver_versions"]) == set(SOLVERS)
@@ -92,6 +116,52 @@ class TestScripts:
         c = results["position.rear_in_interval"]
         assert c.own_status() == "certified"
         assert c.status == "unconfirmed" and "lemma position.front_in_interval" in c.message
+
+    def test_a_solver_that_gave_up_is_not_asked_again_and_says_so(self, monkeypatch):
+        import atcs.proofs.certify as certify
+
+        real = certify.check_obligation
+        asked = []
+
+        def first_cvc5_check_times_out(solver, ob, timeout_s, resource_limit):
+            asked.append((solver, ob.check, timeout_s))
+            if solver == "cvc5" and ob.check == "base":
+                return SolverCheck(solver, ob.check, "unknown", timeout_s, "timeout")
+            return real(solver, ob, timeout_s, resource_limit)
+
+        monkeypatch.setattr(certify, "check_obligation", first_cvc5_check_times_out)
+        c = certify_one("supervision.sb_held_above_permitted", 1, {"z3": 60, "cvc5": 7})
+        assert [(s, t) for s, _, t in asked] == [("z3", 60), ("cvc5", 7), ("z3", 60), ("z3", 60)]
+        later = [ch for ch in c.checks if ch.solver == "cvc5" and ch.check != "base"]
+        assert [ch.check for ch in later] == ["step", "invariant"]
+        assert all(ch.verdict == "unknown" and ch.reason == "not checked: cvc5 said unknown on base" for ch in later)
+        assert c.own_status() == "unconfirmed" and c.confirmed_by == ("z3",)
+        settle({c.name: c}, {c.name: 1})
+        assert c.message == "cvc5 says unknown on base (timeout); 2 checks not checked: cvc5 said unknown on base"
+
+    def test_z3_only_leaves_the_property_unconfirmed_and_says_why(self, tmp_path):
+        report = tmp_path / "r.json"
+        report.write_text('{"properties": [{"name": "supervision.eb_above_ebi", "status": "proved", "k": 0}]}')
+        argv = ["certify", "--only", "supervision.eb_above_ebi", "--report", str(report), "--dir", str(tmp_path)]
+        assert main([*argv, "--z3-only", "supervision.eb_*"]) == 3
+        doc = json.loads((tmp_path / "certificates.json").read_text())
+        (entry,) = doc["properties"]
+        assert doc["z3_only"] == ["supervision.eb_above_ebi"] and entry["status"] == "unconfirmed"
+        assert entry["confirmed_by"] == ["z3"] and all(c["cvc5"]["seconds"] == 0 for c in entry["checks"])
+        assert all(c["cvc5"]["reason"] == "not checked: cvc5 was not asked (--z3-only)" for c in entry["checks"])
+
+    def test_cvc5s_resource_limit_gives_unknown_and_every_check_counts_its_units(self, tmp_path):
+        obs = obligations(PROPERTIES["closed_loop.braking_invariant_seed000"], 1, PROPERTIES)
+        step = next(ob for ob in obs if ob.check == "step_case_2")
+        check = check_obligation("cvc5", step, 120, resource_limit=20_000)
+        assert (check.verdict, check.reason) == ("unknown", "resourceout") and check.resource_units >= 20_000
+        easy = obligations(PROPERTIES["supervision.eb_above_ebi"], 0, PROPERTIES)[0]
+        assert check_obligation("cvc5", easy, 60).resource_units > 0
+        assert check_obligation("z3", easy, 60).resource_units is None
+        with pytest.raises(ValueError, match=r"resource_limit must be a positive whole number .* got 0 for cvc5"):
+            check_obligation("cvc5", easy, 60, resource_limit=0)
+        with pytest.raises(ValueError, match=r"resource_limit .* got 5 for z3"):
+            check_obligation("z3", easy, 60, resource_limit=5)
 
     def test_an_unknown_is_not_a_confirmation(self):
         c = certify_one("supervision.eb_above_ebi", 0, 60)
@@ -118,6 +188,24 @@ class TestBadInput:
         err = capsys.readouterr().err
         assert code == 2 and str(path) in err and message in err, err
         assert not (tmp_path / "certificates.json").exists()
+
+    @pytest.mark.parametrize("option", ["--z3-timeout", "--cvc5-timeout"])
+    def test_a_bad_solver_time_limit_names_the_option_and_the_value(self, tmp_path, capsys, option):
+        assert main(["certify", "--only", "supervision.eb_above_ebi", option, "0", "--dir", str(tmp_path)]) == 2
+        err = capsys.readouterr().err
+        assert option in err and "'0'" in err and len(err.strip().splitlines()) == 1, err
+
+    def test_per_solver_limits_must_name_every_solver_with_a_positive_number(self):
+        assert solver_timeouts(30) == {"z3": 30, "cvc5": 30}
+        with pytest.raises(ValueError, match=r"a limit for each of z3, cvc5, got \['z3'\]"):
+            solver_timeouts({"z3": 30})
+        with pytest.raises(ValueError, match=r"timeout_s\['cvc5'\] must be a positive number of seconds, got -1"):
+            solver_timeouts({"z3": 30, "cvc5": -1})
+
+    def test_a_z3_only_glob_that_matches_nothing_is_refused(self, tmp_path, capsys):
+        argv = ["certify", "--only", "supervision.eb_above_ebi", "--z3-only", "supervision.*,nosuch.*"]
+        assert main([*argv, "--dir", str(tmp_path)]) == 2
+        assert "--z3-only 'nosuch.*' matches no property" in capsys.readouterr().err
 
     def test_no_matching_property(self, tmp_path, capsys):
         assert main(["certify", "--only", "nosuch.*", "--dir", str(tmp_path)]) == 2
