@@ -74,39 +74,6 @@ def _opens(o, s, nxt, side: str):
 
 PROPERTIES = (
     Property(
-        name="doors.enable_at_platform_stop",
-        requirement="DOOR-07",
-        seed="004 §2.1",
-        text=(
-            "No false refusal: a side's doors are enabled when requested at zero speed, immobilised, with the whole "
-            "position interval within the stopping tolerance and one platform on that side spanning every door."
-        ),
-        node=DOOR_ENABLE,
-        holds=lambda o, p, s, i, out, nxt: o.and_(
-            o.implies(conditions_met(o, p, i, "left"), out.enable_left),
-            o.implies(conditions_met(o, p, i, "right"), out.enable_right),
-        ),
-        assumptions=ENABLE_ASSUMPTIONS,
-    ),
-    Property(
-        name="doors.dcu_follows_commands",
-        requirement="DOOR-08",
-        seed="004 §2.1, Fig. 1",
-        text=(
-            "The DCU obeys: a side enabled and commanded open is open in the next cycle, and an open side stays open "
-            "while it is enabled and no close command is given."
-        ),
-        node=DCU,
-        holds=lambda o, p, s, i, out, nxt: o.and_(*(
-            o.and_(
-                o.implies(o.and_(getattr(i, f"enable_{side}"), getattr(i, f"open_{side}")),
-                          getattr(nxt, f"door_open_{side}")),
-                o.implies(o.and_(getattr(s, f"door_open_{side}"), getattr(i, f"enable_{side}"), o.not_(i.close)),
-                          getattr(nxt, f"door_open_{side}")),
-            ) for side in ("left", "right")
-        )),
-    ),
-    Property(
         name="doors.enable_left_only_at_platform_stop",
         requirement="DOOR-01",
         seed="004 §2.1",
@@ -179,5 +146,38 @@ PROPERTIES = (
             o.implies(_opens(o, s, nxt, "right"), safe_to_open(o, p, i, "right")),
         ),
         assumptions=ENABLE_ASSUMPTIONS,
+    ),
+    Property(
+        name="doors.enable_at_platform_stop",
+        requirement="DOOR-07",
+        seed="004 §2.1",
+        text=(
+            "No false refusal: a side's doors are enabled when requested at zero speed, immobilised, with the whole "
+            "position interval within the stopping tolerance and one platform on that side spanning every door."
+        ),
+        node=DOOR_ENABLE,
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.implies(conditions_met(o, p, i, "left"), out.enable_left),
+            o.implies(conditions_met(o, p, i, "right"), out.enable_right),
+        ),
+        assumptions=ENABLE_ASSUMPTIONS,
+    ),
+    Property(
+        name="doors.dcu_follows_commands",
+        requirement="DOOR-08",
+        seed="004 §2.1, Fig. 1",
+        text=(
+            "The DCU obeys: a side enabled and commanded open is open in the next cycle, and an open side stays open "
+            "while it is enabled and no close command is given."
+        ),
+        node=DCU,
+        holds=lambda o, p, s, i, out, nxt: o.and_(*(
+            o.and_(
+                o.implies(o.and_(getattr(i, f"enable_{side}"), getattr(i, f"open_{side}")),
+                          getattr(nxt, f"door_open_{side}")),
+                o.implies(o.and_(getattr(s, f"door_open_{side}"), getattr(i, f"enable_{side}"), o.not_(i.close)),
+                          getattr(nxt, f"door_open_{side}")),
+            ) for side in ("left", "right")
+        )),
     ),
 )
