@@ -647,9 +647,13 @@ def _mutate(args, out: Console, err: Console) -> int:
     columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
     with Progress(*columns, console=err, transient=True) as progress:
         task = progress.add_task("mutating", total=len(selected))
+        def done(o):
+            progress.update(task, advance=1, description=f"{o.mutant.id}: {o.verdict}")
+            if not err.is_terminal:  # a log: one line per mutant instead of the progress bar
+                print(f"{o.verdict} {o.mutant.id} ({o.seconds:.1f} s)", file=sys.stderr, flush=True)
+
         outcomes = mutation.run(selected, timeout_s=args.timeout, jobs=args.jobs, equivalent=equivalent, nodes=nodes,
-                                on_done=lambda o: progress.update(task, advance=1,
-                                                                  description=f"{o.mutant.id}: {o.verdict}"))
+                                on_done=done)
     wall = time.monotonic() - start
     rates = mutation.kill_rates(outcomes)
 
