@@ -28,7 +28,7 @@ class TestProvedProperties:
     def test_both_solvers_confirm_every_certificate_of_these_modules(self, proof_suite_run):
         depths = depths_from_report(proof_suite_run.json)  # the session's atcs prove run (conftest.py)
         props = [p for p in PROPERTIES.values() if p.module in CERTIFIED_IN_CI]
-        assert len(props) == 34 and all(p.name in depths for p in props)
+        assert len(props) == 35 and all(p.name in depths for p in props)
         results = {c.name: c for c in run(props, depths, timeout_s=120)}
         settle(results, depths)
         refused = {n: c.message for n, c in results.items() if c.status != "certified"}
