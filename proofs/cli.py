@@ -640,7 +640,7 @@ def _mutate(args, out: Console, err: Console) -> int:
         raise UsageError(f"mutate: {exc}") from None
     if args.list:
         for m in selected:
-            out.print(m.id + ("  (equivalent)" if m.id in equivalent else ""), markup=False, highlight=False)
+            print(m.id + ("  (equivalent)" if m.id in equivalent else ""))  # one id a line, never wrapped
         return EXIT_OK
 
     start = time.monotonic()
