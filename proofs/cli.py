@@ -1,5 +1,5 @@
 """The ``atcs`` command line: ``prove``, ``certify``, ``replay``, ``curves``, ``platforms``, ``sim``, ``headway``,
-``bench``, ``vectors``.
+``bench``, ``vectors``, ``mutate``.
 
 Exit codes of ``prove`` (DESIGN.md): 0 all proved, 1 some property falsified,
 2 usage or input error, 3 some property unknown or in error and none falsified
@@ -11,6 +11,8 @@ reproduced at the recorded step (and the float run agrees), 1 it is not (the mod
 ``bench``: 0, or 2 for an unknown benchmark name. ``vectors generate``: 0 every goal settled (covered or shown
 infeasible), 3 some unknown; ``vectors verify``: 0 every file verified, 1 a problem; ``vectors check``: 0 every
 vector passed, 1 one failed or the implementation stopped; all 2 for bad input.
+``mutate``: 0 every counted mutant killed (or equivalent),
+1 some mutant survived, 3 some timed out and none survived, 2 bad input.
 """
 
 from __future__ import annotations
@@ -156,6 +158,22 @@ def build_parser() -> argparse.ArgumentParser:
                        "the separation invariant's, in both modes")
     h.add_argument("--speed", metavar="KMH", default="80", help="the steady speed (km/h, default 80)")
 
+    u = sub.add_parser("mutate", help="mutate the model's step functions systematically and prove the properties "
+                       "about each mutant; kill rate per module, survivors with their diff")
+    u.add_argument("--only", metavar="PATTERN", action="append",
+                   help="glob over mutant ids (module.function:+line:operator:...), e.g. 'doors.*'; repeatable")
+    u.add_argument("--nodes", metavar="PATTERN", action="append",
+                   help="prove only the properties of the nodes matching this glob, e.g. 'door*'; repeatable "
+                   "(default every node whose proofs run the mutated function)")
+    u.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=120.0,
+                   help="per-mutant time limit over all its properties; past it the verdict is timeout "
+                   "(default 120)")
+    u.add_argument("--jobs", metavar="N", type=_positive_int, default=1, help="worker processes (default 1)")
+    u.add_argument("--json", metavar="FILE", help="write the JSON report here")
+    u.add_argument("--equivalents", metavar="FILE", default=None,
+                   help="registry of equivalent mutants (default proofs/equivalent_mutants.toml)")
+    u.add_argument("--list", action="store_true", help="list the selected mutants and exit")
+
     b = sub.add_parser("bench", help="run benchmarks that compare side by side and print ratios")
     b.add_argument("name", nargs="?", metavar="NAME", help="one benchmark (default: all)")
 
@@ -195,7 +213,7 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         command = {"prove": _prove, "certify": _certify, "replay": _replay, "curves": _curves,
                    "platforms": _platforms, "sim": _sim, "headway": _headway, "bench": _bench,
-                   "vectors": _vectors}[args.command]
+                   "vectors": _vectors, "mutate": _mutate}[args.command]
         return command(args, out, err)
     except UsageError as exc:
         print(f"atcs: error: {exc}", file=sys.stderr)
@@ -679,6 +697,86 @@ def _headway(args, out: Console, err: Console) -> int:
     out.print(table)
     out.print(f"measured with {float(rows[0]['resource_length_m']):g} m resources (sim/headway.py explains the "
               "three figures)")
+    return EXIT_OK
+
+
+# --- mutate ------------------------------------------------------------------------------
+
+_MUTANT_STYLE = {"killed": "green", "survived": "bold red", "timeout": "yellow", "incompetent": "magenta",
+                 "equivalent": "cyan"}
+
+
+def _mutate(args, out: Console, err: Console) -> int:
+    """``atcs mutate``: exit 0 every counted mutant killed, 1 some survived, 3 some timed out and none survived."""
+    import fnmatch
+
+    from atcs.proofs import mutation, report
+    from atcs.proofs.equivalents import REGISTRY, EquivalentsError, load_equivalents
+
+    mutants = mutation.all_mutants()
+    selected = [m for m in mutants if args.only is None or any(fnmatch.fnmatchcase(m.id, p) for p in args.only)]
+    if not selected:
+        modules = sorted({m.model_module for m in mutants})
+        raise UsageError(f"mutate: --only {' '.join(args.only)!r} matches no mutant (modules: {', '.join(modules)})")
+    nodes = None
+    if args.nodes is not None:
+        known = mutation.node_names()
+        nodes = tuple(n for n in known if any(fnmatch.fnmatchcase(n, p) for p in args.nodes))
+        if not nodes:
+            raise UsageError(f"mutate: --nodes {' '.join(args.nodes)!r} matches no node (nodes: {', '.join(known)})")
+        selected = [m for m in selected if mutation.affected_properties(m, nodes)]
+        if not selected:
+            raise UsageError(f"mutate: no selected mutant's function is run by the --nodes {' '.join(args.nodes)!r}")
+    try:
+        equivalent = load_equivalents(args.equivalents or REGISTRY, known={m.id for m in mutants})
+        if args.json is not None:
+            report.check_writable_file("--json", args.json)
+    except EquivalentsError as exc:
+        raise UsageError(f"mutate: --equivalents {exc}") from None
+    except report.OutputPathError as exc:
+        raise UsageError(f"mutate: {exc}") from None
+    if args.list:
+        for m in selected:
+            print(m.id + ("  (equivalent)" if m.id in equivalent else ""))  # one id a line, never wrapped
+        return EXIT_OK
+
+    start = time.monotonic()
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=err, transient=True) as progress:
+        task = progress.add_task("mutating", total=len(selected))
+        def done(o):
+            progress.update(task, advance=1, description=f"{o.mutant.id}: {o.verdict}")
+            if not err.is_terminal:  # a log: one line per mutant instead of the progress bar
+                print(f"{o.verdict} {o.mutant.id} ({o.seconds:.1f} s)", file=sys.stderr, flush=True)
+
+        outcomes = mutation.run(selected, timeout_s=args.timeout, jobs=args.jobs, equivalent=equivalent, nodes=nodes,
+                                on_done=done)
+    wall = time.monotonic() - start
+    rates = mutation.kill_rates(outcomes)
+
+    table = Table(title=f"atcs mutate: {len(selected)} mutants in {wall:.1f} s")
+    for heading in ("module", *mutation.VERDICTS, "kill rate"):
+        table.add_column(heading, justify="left" if heading == "module" else "right")
+    for module, r in rates.items():
+        rate = "-" if r["kill_rate"] is None else f"{100 * r['kill_rate']:.1f} %"
+        table.add_row(module, *(str(r[v]) for v in mutation.VERDICTS), rate, end_section=module == list(rates)[-2])
+    out.print(table)
+    for o in outcomes:
+        if o.verdict in ("survived", "timeout", "incompetent"):
+            out.print(f"[{_MUTANT_STYLE[o.verdict]}]{o.verdict}[/] {o.mutant.id} (line {o.mutant.line}): "
+                      f"{o.message}", highlight=False)
+            if o.verdict == "survived":
+                out.print(o.mutant.diff, markup=False, highlight=False)
+    if args.json:
+        doc = {"tool": "atcs mutate", "timeout_s": args.timeout, "nodes": list(nodes) if nodes else None,
+               "only": args.only, "wall_seconds": round(wall, 3), "kill_rates": rates,
+               "mutants": [o.record() for o in outcomes]}
+        report.write_atomic(args.json, json.dumps(doc, indent=2) + "\n")
+    verdicts = {o.verdict for o in outcomes}
+    if "survived" in verdicts:
+        return EXIT_FALSIFIED
+    if "timeout" in verdicts:
+        return EXIT_UNKNOWN
     return EXIT_OK
 
 

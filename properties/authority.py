@@ -94,6 +94,48 @@ def _switch_command(o, p, s, i, out, nxt):
                     for r in _resources(p)))
 
 
+def _blocked_ahead(o, p, i, r):
+    """Resource ``r`` lies ahead and is not held, or is a switch not reported locked in the route's direction."""
+    locked_right = o.and_(i.switch_locked[r], o.eq(i.switch_reversed[r], p.switch_needs_reverse[r]))
+    clear = o.and_(i.held[r], o.or_(o.not_(p.resource_is_switch[r]), locked_right))
+    return o.and_(o.not_(clear), _ahead(p, i, r))
+
+
+def _locked_end(o, p, s, i, out, nxt):
+    """dLockedResource resource by resource: the start of the first blocked resource ahead, else the route's end."""
+    blocked = [_blocked_ahead(o, p, i, r) for r in _resources(p)]
+    return o.and_(
+        *(o.implies(o.and_(blocked[r], *(o.not_(b) for b in blocked[:r])), o.eq(out.d_locked_m, p.resource_start_m[r]))
+          for r in _resources(p)),
+        o.implies(o.and_(*(o.not_(b) for b in blocked)), o.eq(out.d_locked_m, p.resource_end_m[-1])),
+    )
+
+
+def _bounds_never_lowered(o, p, s, i, out, nxt):
+    d, v = p.leader_max_deceleration_mps2, i.report_speed_mps
+    return o.and_(
+        o.implies(s.leader_known, o.and_(nxt.leader_known, s.best_rear_m <= nxt.best_rear_m,
+                                         s.best_stop_m <= nxt.best_stop_m)),
+        o.implies(i.report_delivered, o.and_(nxt.leader_known, i.report_rear_m <= nxt.best_rear_m,
+                                             v * v <= o.const(2) * d * (nxt.best_stop_m - i.report_rear_m))),
+    )
+
+
+def _report_age(o, p, s, i, out, nxt):
+    return o.and_(o.implies(i.report_delivered, o.eq(nxt.since_report_s, o.const(0))),
+                  o.implies(o.not_(i.report_delivered), o.eq(nxt.since_report_s, s.since_report_s + p.cycle_s)))
+
+
+def _credit_while_fresh(o, p, s, i, out, nxt):
+    fresh = o.and_(nxt.leader_known, o.not_(p.brick_wall), nxt.since_report_s <= p.report_timeout_s)
+    return o.implies(fresh, o.eq(out.leader_limit_m, nxt.best_stop_m - p.safety_margin_m))
+
+
+def _release_when_behind(o, p, s, i, out, nxt):
+    return o.and_(*(o.implies(o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m), out.release[r])
+                    for r in _resources(p)))
+
+
 def _property(name, requirement, seed, text, holds, assumptions=(), lemmas=()):
     return Property(name=name, requirement=requirement, seed=seed, text=text, node=AUTHORITY, holds=holds,
                     assumptions=assumptions, lemmas=lemmas)
@@ -134,6 +176,22 @@ PROPERTIES = (
               "it starts before dRequestResource (the end of line and MAX_MA ahead).", _request_ahead),
     _property("resources.switch_commanded_only_when_held", "RES-05", "001 §3.2",
               "The train commands a switch only if it holds the switch resource.", _switch_command),
+    # not over-restrictive, and the bookkeeping the limits rest on (each kills survivors of atcs mutate)
+    _property("authority.locked_end_is_first_blocked", "AUT-08", "001 §3.2",
+              "dLockedResource is the start of the first resource ahead that is not held or is a switch not locked "
+              "in the route's direction, and the route's end if there is none.", _locked_end),
+    _property("authority.leader_bounds_never_lowered", "AUT-09", "001 §3.2 (Fig. 6)",
+              "Once a report has arrived the leader stays known and its kept rear and earliest stopping point are "
+              "never lowered; each is at least what this cycle's report gives.", _bounds_never_lowered,
+              (LEADER_DATA,)),
+    _property("authority.report_age", "AUT-10", "001 §3.2",
+              "The time since the last report is 0 in a cycle a report arrives and one cycle more in any other.",
+              _report_age),
+    _property("authority.stop_credit_while_fresh", "AUT-11", "001 §3.2 (Fig. 6), 000 §2.2",
+              "In relative braking, while the last report is no older than the timeout, the leader's limit is its "
+              "largest earliest stopping point less the safety margin.", _credit_while_fresh),
+    _property("resources.release_when_behind_rear", "RES-07", "001 §3.2 (Fig. 5)",
+              "A held resource that lies wholly behind the min safe rear is released.", _release_when_behind),
 )
 
 __all__ = ["LEADER_DATA", "PROPERTIES", "ROUTE"]

@@ -6,6 +6,8 @@ every train length and every rotating mass M_R in [0, 50] %.
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from atcs.model.deceleration import (
     DECELERATION,
     braking_deceleration_mps2,
@@ -73,6 +75,23 @@ PROPERTIES = (
         holds=lambda o, p, s, i, out, nxt: out.safe_deceleration_mps2 <= (
             braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps)
             + gradient_deceleration_mps2(o, value_at(o, gradient_profile_of(p), i.probe_m), p.rotating_mass_percent)
+        ),
+        assumptions=ASSUMPTIONS,
+    ),
+    Property(
+        name="deceleration.gradient_term_per_seed",
+        requirement="DEC-04",
+        seed="000 §2.3 (equation 2)",
+        text=(
+            "The safe deceleration is the braking model's plus g * Grad_c / (1000 + 10 * M_R) for the compensated "
+            "gradient, g = 9.81 m/s^2, stated from the seed, not through the model's function."
+        ),
+        node=DECELERATION,
+        holds=lambda o, p, s, i, out, nxt: o.eq(
+            (out.safe_deceleration_mps2
+             - braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps))
+            * (o.const(1000) + o.const(10) * p.rotating_mass_percent),
+            o.const(Fraction(981, 100)) * out.compensated_gradient_permille,
         ),
         assumptions=ASSUMPTIONS,
     ),

@@ -53,6 +53,21 @@ def safe_to_open(o, p, i, side: str):
     )
 
 
+def conditions_met(o, p, i, side: str):
+    """Seed 004 §2.1's conditions met for the whole position interval on one side: requested, zero speed,
+    immobilised, every front within the stopping tolerance, and one platform on that side spanning every door of
+    every front."""
+    on_side = getattr(i, f"platform_{side}")
+    return o.and_(
+        getattr(i, f"request_{side}"), i.standstill, o.eq(i.speed_mps, o.const(0)), i.immobilised, i.position_valid,
+        i.stopping_point_m - i.stop_tolerance_m <= i.front_min_m,
+        i.front_max_m <= i.stopping_point_m + i.stop_tolerance_m,
+        o.or_(*(o.and_(on_side[j], i.platform_start_m[j] <= i.front_min_m - p.last_door_m,
+                       i.front_max_m - p.first_door_m <= i.platform_end_m[j])
+                for j in range(len(on_side)))),
+    )
+
+
 def _opens(o, s, nxt, side: str):
     return o.and_(o.not_(getattr(s, f"door_open_{side}")), getattr(nxt, f"door_open_{side}"))
 
@@ -131,5 +146,38 @@ PROPERTIES = (
             o.implies(_opens(o, s, nxt, "right"), safe_to_open(o, p, i, "right")),
         ),
         assumptions=ENABLE_ASSUMPTIONS,
+    ),
+    Property(
+        name="doors.enable_at_platform_stop",
+        requirement="DOOR-07",
+        seed="004 §2.1",
+        text=(
+            "No false refusal: a side's doors are enabled when requested at zero speed, immobilised, with the whole "
+            "position interval within the stopping tolerance and one platform on that side spanning every door."
+        ),
+        node=DOOR_ENABLE,
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.implies(conditions_met(o, p, i, "left"), out.enable_left),
+            o.implies(conditions_met(o, p, i, "right"), out.enable_right),
+        ),
+        assumptions=ENABLE_ASSUMPTIONS,
+    ),
+    Property(
+        name="doors.dcu_follows_commands",
+        requirement="DOOR-08",
+        seed="004 §2.1, Fig. 1",
+        text=(
+            "The DCU obeys: a side enabled and commanded open is open in the next cycle, and an open side stays open "
+            "while it is enabled and no close command is given."
+        ),
+        node=DCU,
+        holds=lambda o, p, s, i, out, nxt: o.and_(*(
+            o.and_(
+                o.implies(o.and_(getattr(i, f"enable_{side}"), getattr(i, f"open_{side}")),
+                          getattr(nxt, f"door_open_{side}")),
+                o.implies(o.and_(getattr(s, f"door_open_{side}"), getattr(i, f"enable_{side}"), o.not_(i.close)),
+                          getattr(nxt, f"door_open_{side}")),
+            ) for side in ("left", "right")
+        )),
     ),
 )

@@ -14,6 +14,7 @@ from __future__ import annotations
 from atcs.model.position import MIN_CYCLE_S
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.properties.property import Assumption, Property
+from atcs.properties.supervision import CURVE_ORDER
 
 
 def _table(o, p, s, i):
@@ -158,6 +159,19 @@ def _speed_within_accuracy(o, p, s, i, out, nxt):
     return o.and_(error <= out.speed_accuracy_mps, -error <= out.speed_accuracy_mps)
 
 
+def _supervised_on_true_speed(o, p, s, i, out, nxt):
+    v = nxt.speed_mps
+    return o.and_(o.implies(v > i.ebi_mps, out.emergency_brake),
+                  o.implies(v > i.sbi_mps, o.or_(out.service_brake, out.emergency_brake)),
+                  o.implies(v > i.warning_mps, out.warning))
+
+
+def _no_intervention_at_permitted(o, p, s, i, out, nxt):
+    bound = out.speed_est_mps + out.speed_accuracy_mps
+    return o.implies(o.and_(o.not_(s.eb_latched), out.position_valid, bound <= i.permitted_mps),
+                     o.not_(o.or_(out.service_brake, out.emergency_brake, out.traction_cut, out.warning)))
+
+
 def _unknown_tag(o, p, s, i, out, nxt):
     unknown = o.and_(i.tag_read, *(o.not_(o.eq(i.tag_id, tag_id)) for tag_id in p.tag_ids))
     return o.implies(unknown, _invalid(o, out))
@@ -269,6 +283,20 @@ PROPERTIES = (
         lambda o, p, s, i, out, nxt: o.implies(s.localised, out.position_valid),
         (TABLE, TACHOMETER, TAG_READER, KINEMATICS, READER_COMPLETE),
         ("lrt_in_table", "front_in_interval", "front_between_lrt_and_next"),
+    ),
+    # the supervision of the measured speed's upper bound (survivors of atcs mutate)
+    _property(
+        "supervised_on_true_speed", "POS-13",
+        "The loop supervises the true speed: EB whenever the true speed at the end of the cycle is above EBI, a "
+        "brake above SBI, the warning above the warning limit.",
+        _supervised_on_true_speed, (TABLE, TACHOMETER, KINEMATICS), ("speed_within_accuracy",),
+        seed="001 §3.2, 000 §2.4.3",
+    ),
+    _property(
+        "no_intervention_at_permitted", "POS-14",
+        "Not over-restrictive: with EB not latched, the position valid and the speed's upper bound (estimate plus "
+        "accuracy) at or under the permitted speed, no brake, no traction cut and no warning.",
+        _no_intervention_at_permitted, (CURVE_ORDER,), seed="001 §3.2, 000 §2.4.2",
     ),
 )
 

@@ -56,6 +56,25 @@ MUTANTS = {
         "switch_command = tuple(o.and_(i.held[r], o.not_(confirmed(o, p, i, r))) for r in resources)",
         "switch_command = tuple(o.not_(confirmed(o, p, i, r)) for r in resources)",
     ),
+    # survivors of atcs mutate, each killed by a property of its own:
+    # a blocked resource that ends exactly at the max safe front taken for one ahead
+    "authority.locked_end_is_first_blocked": (
+        authority.locked_end_m, "p.resource_end_m[r] > i.front_max_m", "p.resource_end_m[r] >= i.front_max_m",
+    ),
+    # a later report's lower rear replaces the kept one
+    "authority.leader_bounds_never_lowered": (
+        authority.leader_reports, "o.max(s.best_rear_m, i.report_rear_m)", "o.min(s.best_rear_m, i.report_rear_m)",
+    ),
+    # the report age never grows: the link-loss fallback is never taken
+    "authority.report_age": (authority.leader_reports, "s.since_report_s + p.cycle_s", "s.since_report_s"),
+    # a report exactly as old as the timeout treated as lost
+    "authority.stop_credit_while_fresh": (
+        authority.leader_limit_m, "r.since_report_s > p.report_timeout_s", "r.since_report_s >= p.report_timeout_s",
+    ),
+    # a resource ending exactly at the min safe rear kept
+    "resources.release_when_behind_rear": (
+        authority.authority_step, "p.resource_end_m[r] <= i.rear_min_m", "p.resource_end_m[r] < i.rear_min_m",
+    ),
 }
 
 

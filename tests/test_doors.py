@@ -65,6 +65,19 @@ MUTANTS = {
     "doors.close_when_enable_drops": [
         (doors.door_next, "closing = o.or_(o.not_(enable), close)", "closing = close"),
     ],
+    "doors.enable_at_platform_stop": [
+        # the stopping tolerance checked strictly: a train stopped exactly at its edge is refused (atcs mutate)
+        (doors.stopped_at_stopping_point, "i.front_max_m <= i.stopping_point_m + i.stop_tolerance_m",
+         "i.front_max_m < i.stopping_point_m + i.stop_tolerance_m"),
+        # every platform of the table required to span the doors, not one
+        (doors.platform_covers_doors, "return o.or_(*(", "return o.and_(*("),
+    ],
+    "doors.dcu_follows_commands": [
+        # a door that opens only if it is open already: it never opens (atcs mutate)
+        (doors.door_next, "return o.or_(opens, ", "return o.and_(opens, "),
+        # an open door closes as soon as it is not obstructed, though still enabled
+        (doors.door_next, "o.or_(o.not_(closing), obstructed)", "o.and_(o.not_(closing), obstructed)"),
+    ],
     "doors.open_only_at_platform_stop": [
         # the DCU wired to the ATO's request instead of the ATP's enable
         (doors.door_loop_step, "enable_left=atp.enable_left, enable_right=atp.enable_right, open_left",

@@ -83,6 +83,16 @@ MUTANTS = {
     "position.eb_held_while_moving": (
         position.position_step, "standstill=o.eq(i.tacho_m, zero)", "standstill=i.tacho_m < o.const(1)",
     ),
+    # survivors of atcs mutate: the estimate supervised without its accuracy
+    "position.supervised_on_true_speed": (
+        position_loop.position_loop_step, "speed = position.speed_est_mps + position.speed_accuracy_mps",
+        "speed = position.speed_est_mps",
+    ),
+    # the service brake held at exactly the permitted speed
+    "position.no_intervention_at_permitted": (
+        position_loop.position_loop_step, "over_permitted=speed > i.permitted_mps",
+        "over_permitted=speed >= i.permitted_mps",
+    ),
 }
 
 

@@ -216,6 +216,10 @@ MUTANTS = {
         deceleration.safe_deceleration_mps2, "+ gradient_deceleration_mps2(o, grad_c",
         "- gradient_deceleration_mps2(o, grad_c",
     ),
+    # the rotating mass left out of the divisor (a survivor of atcs mutate: DEC-03 reads the model's own formula)
+    "deceleration.gradient_term_per_seed": (
+        deceleration.gradient_deceleration_mps2, "(o.const(1000) + o.const(10) * mass)", "o.const(1000)",
+    ),
 }
 
 

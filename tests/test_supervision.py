@@ -60,6 +60,16 @@ MUTANTS = {
     ),
     "supervision.sb_only_if_fitted": ("        p.service_brake_fitted,\n", "", supervise),
     "supervision.eb_without_position": ("        o.not_(position_valid),\n", "", supervise),
+    # the survivors of atcs mutate, each killed by a property of its own
+    "supervision.no_spurious_eb": (
+        "o.and_(s.eb_latched, o.not_(eb_released))", "o.or_(s.eb_latched, o.not_(eb_released))", supervise,
+    ),
+    "supervision.state_records_commands": (
+        "SupervisionState(eb_latched=emergency_brake,", "SupervisionState(eb_latched=s.eb_latched,", supervise,
+    ),
+    "supervision.warning_only_above_warning_limit": (
+        "over_warning=i.speed_mps > i.warning_mps", "over_warning=i.speed_mps >= i.warning_mps",
+    ),
 }
 
 
