@@ -209,36 +209,40 @@ def to_csv(trace: Trace, replayed: Replay) -> str:
     return out.getvalue()
 
 
-def _parse_value(path: str, where: str, raw: Any, sort: Sort):
+def parse_value(path: str, where: str, raw: Any, sort: Sort, error: type[ValueError] = TraceFileError):
+    """An exact value of sort ``sort`` read from JSON (``true``/``false``, a number as a string, a list for an
+    array); a bad one raises ``error`` naming the file, the field and the value."""
     if sort.size is not None:
         if not isinstance(raw, list) or len(raw) != sort.size:
-            raise TraceFileError(f"{path}: {where} must be a list of {sort.size} values, got {raw!r}")
-        return tuple(_parse_value(path, f"{where}[{j}]", v, Sort(sort.kind)) for j, v in enumerate(raw))
+            raise error(f"{path}: {where} must be a list of {sort.size} values, got {raw!r}")
+        return tuple(parse_value(path, f"{where}[{j}]", v, Sort(sort.kind), error) for j, v in enumerate(raw))
     if sort.kind == "bool":
         if not isinstance(raw, bool):
-            raise TraceFileError(f"{path}: {where} must be true or false, got {raw!r}")
+            raise error(f"{path}: {where} must be true or false, got {raw!r}")
         return raw
     if isinstance(raw, bool) or not isinstance(raw, (str, int)):
-        raise TraceFileError(f"{path}: {where} must be an exact number as a string such as \"1/3\", got {raw!r}")
+        raise error(f"{path}: {where} must be an exact number as a string such as \"1/3\", got {raw!r}")
     try:
         return Fraction(raw)
     except (ValueError, ZeroDivisionError):
-        raise TraceFileError(f"{path}: {where} is not a number: {raw!r}") from None
+        raise error(f"{path}: {where} is not a number: {raw!r}") from None
 
 
-def _parse_record(path: str, where: str, raw: Any, sorts: dict[str, Sort]) -> dict[str, Value]:
+def parse_record(path: str, where: str, raw: Any, sorts: dict[str, Sort],
+                 error: type[ValueError] = TraceFileError) -> dict[str, Value]:
+    """A record of fields of the given sorts read from a JSON object: every field present, none unknown."""
     if not isinstance(raw, dict):
-        raise TraceFileError(f"{path}: {where} must be an object, got {raw!r}")
+        raise error(f"{path}: {where} must be an object, got {raw!r}")
     missing = [n for n in sorts if n not in raw]
     unknown = [n for n in raw if n not in sorts]
     if missing or unknown:
-        raise TraceFileError(
+        raise error(
             f"{path}: {where} has "
             + "; ".join(
                 x for x in (missing and f"missing fields {missing}", unknown and f"unknown fields {unknown}") if x
             )
         )
-    return {n: _parse_value(path, f"{where}.{n}", raw[n], sort) for n, sort in sorts.items()}
+    return {n: parse_value(path, f"{where}.{n}", raw[n], sort, error) for n, sort in sorts.items()}
 
 
 def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Property, Trace]:
@@ -268,13 +272,13 @@ def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Proper
         raise TraceFileError(f"{path}: field 'violation_step' must be a step index below {len(steps)}, got {k!r}")
     if doc.get("node") != node.name:
         raise TraceFileError(f"{path}: field 'node' must be {node.name!r} for {name}, got {doc.get('node')!r}")
-    params = _parse_record(path, "params", doc.get("params"), node.sorts("params"))
+    params = parse_record(path, "params", doc.get("params"), node.sorts("params"))
     states, inputs = [], []
     for j, step in enumerate(steps):
         if not isinstance(step, dict):
             raise TraceFileError(f"{path}: steps[{j}] must be an object, got {step!r}")
-        states.append(_parse_record(path, f"steps[{j}].state", step.get("state"), node.sorts("state")))
-        inputs.append(_parse_record(path, f"steps[{j}].inputs", step.get("inputs"), node.sorts("inputs")))
-    states.append(_parse_record(path, "final_state", doc.get("final_state"), node.sorts("state")))
+        states.append(parse_record(path, f"steps[{j}].state", step.get("state"), node.sorts("state")))
+        inputs.append(parse_record(path, f"steps[{j}].inputs", step.get("inputs"), node.sorts("inputs")))
+    states.append(parse_record(path, "final_state", doc.get("final_state"), node.sorts("state")))
     trace = Trace(name, node.name, k, params, states, inputs)
     return prop, trace

@@ -18,12 +18,12 @@ import io
 import json
 import platform
 from dataclasses import dataclass, field
-from fractions import Fraction
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 from atcs.model.node import Node, Sort, flatten
+from atcs.proofs import trace
 from atcs.proofs.report import write_atomic
 from atcs.proofs.trace import format_value
 from atcs.proofs.vectors import FunctionVectors, Goal, Vector
@@ -177,31 +177,8 @@ def _need(path, where: str, raw, kind: type, what: str):
     return raw
 
 
-def parse_value(path, where: str, raw: Any, sort: Sort):
-    """An exact value of a field of sort ``sort``: ``true``/``false``, a number as a string, or a list."""
-    if sort.size is not None:
-        if not isinstance(raw, list) or len(raw) != sort.size:
-            raise VectorFileError(f"{path}: {where} must be a list of {sort.size} values, got {raw!r}")
-        return tuple(parse_value(path, f"{where}[{j}]", v, Sort(sort.kind)) for j, v in enumerate(raw))
-    if sort.kind == "bool":
-        return _need(path, where, raw, bool, "true or false")
-    if isinstance(raw, bool) or not isinstance(raw, (str, int)):
-        raise VectorFileError(f"{path}: {where} must be an exact number as a string such as \"1/3\", got {raw!r}")
-    try:
-        return Fraction(raw)
-    except (ValueError, ZeroDivisionError):
-        raise VectorFileError(f"{path}: {where} is not a number: {raw!r}") from None
-
-
 def parse_record(path, where: str, raw: Any, sorts: dict[str, Sort]) -> dict[str, Any]:
-    _need(path, where, raw, dict, "an object")
-    missing = [n for n in sorts if n not in raw]
-    unknown = [n for n in raw if n not in sorts]
-    if missing:
-        raise VectorFileError(f"{path}: {where} is missing the field(s) {', '.join(missing)}")
-    if unknown:
-        raise VectorFileError(f"{path}: {where} has unknown field(s) {', '.join(unknown)}")
-    return {n: parse_value(path, f"{where}.{n}", raw[n], sort) for n, sort in sorts.items()}
+    return trace.parse_record(str(path), where, raw, sorts, VectorFileError)
 
 
 def read(path: str | Path) -> VectorFile:

@@ -167,7 +167,7 @@ class TestVerify:
         (lambda d: d.update(format="x"), "field 'format' must be 'atcs-vectors/1', got 'x'"),
         (lambda d: d["manifest"].update(function="nope"), "manifest.function names no function of the model: 'nope'"),
         (lambda d: d["vectors"][0]["inputs"].update(speed_mps="fast"), "vectors[0].inputs.speed_mps is not a number"),
-        (lambda d: d["vectors"][0]["state"].pop("eb_latched"), "vectors[0].state is missing the field(s) eb_latched"),
+        (lambda d: d["vectors"][0]["state"].pop("eb_latched"), "vectors[0].state has missing fields ['eb_latched']"),
     ])
     def test_malformed_file_is_one_line(self, fresh_dir, capsys, edit, message):
         path = fresh_dir / "supervision.json"
