@@ -29,7 +29,7 @@ import z3
 from atcs.model.node import Node, as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.symbolic import unwrap, wrap
-from atcs.proofs.bmc import Check, new_solver, solve
+from atcs.proofs.bmc import new_solver, solve
 from atcs.proofs.coverage import BOUNDARY_DELTA, Decision, StepFrame, boundaries, decides, decisions, gap, short
 from atcs.proofs.system import Unrolling, model_value
 from atcs.proofs.vacuity import check_vacuity
@@ -170,8 +170,7 @@ def _requirement_goals(search: _Search, node: Node, props: tuple[Property, ...],
             goals.append(goal)
             k, trace = witness.step, witness.trace
             vector = Vector("", prop.name, dict(trace.params), dict(trace.states[k]), dict(trace.inputs[k]))
-            _settle(search, node, goal, Check("sat"), "", lambda _model, goal=goal, vector=vector: (
-                search.keep(node, vector, goal.id),))
+            _cover(goal, lambda goal=goal, vector=vector: search.keep(node, vector, goal.id))
         if vac.status != "non-vacuous":
             goals.append(Goal("requirement", f"{prop.requirement} {prop.name} (not reached)", prop.text,
                               "infeasible" if vac.status == "vacuous" else "unknown", vac.message))
@@ -219,12 +218,17 @@ def _settle(search, node, goal: Goal, check, reason: str, add: Callable) -> None
     elif check.result == "unsat":
         goal.status = "infeasible"
     else:
-        try:
-            add(check.model)
-        except (ArithmeticError, ValueError) as exc:
-            goal.status, goal.reason = "unknown", f"the exact model refuses the solver's vector: {exc}"
-            return
-        goal.status = "covered"
+        _cover(goal, lambda: add(check.model))
+
+
+def _cover(goal: Goal, add: Callable) -> None:
+    """Add the goal's vector(s); covered, unless the exact model refuses them (a division by zero)."""
+    try:
+        add()
+    except (ArithmeticError, ValueError) as exc:
+        goal.status, goal.reason = "unknown", f"the exact model refuses the solver's vector: {exc}"
+        return
+    goal.status = "covered"
 
 
 def generate(node: Node, props: tuple[Property, ...], *, timeout_s: float = 10,
