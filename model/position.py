@@ -119,8 +119,6 @@ class PositionOutputs(Generic[N, B]):
     """The distance per cycle over the cycle time."""
     speed_accuracy_mps: N
     """The true speed is within this of ``speed_est_mps``."""
-    acceleration_est_mps2: N
-    """The change of the distance per cycle over the cycle time squared (indicative, not supervised)."""
     standstill: B
     """No distance this cycle."""
     unknown_tag: B
@@ -200,7 +198,6 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
         rear_max_m=front_max - p.train_length_m,
         speed_est_mps=speed,
         speed_accuracy_mps=speed_accuracy_mps(o, p, speed),
-        acceleration_est_mps2=(i.tacho_m - s.last_tacho_m) / (dt * dt),
         standstill=o.eq(i.tacho_m, zero),
         unknown_tag=unknown_tag,
         unexpected_tag=unexpected_tag,

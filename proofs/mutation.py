@@ -2,7 +2,9 @@
 
 For each mutant (:mod:`atcs.proofs.mutation_sites`) the properties of every node whose proofs run the mutated
 function are proved about the mutated model, lemmas included (themselves proved about the mutant first),
-cheapest nodes first; the first property killed ends the mutant's run. Verdicts (``VERDICTS``):
+cheapest nodes first; the first property killed ends the mutant's run. Each property first gets an equal share
+of the mutant's time limit, so one slow proof does not starve the properties after it; those left unknown are
+then tried again, in the same order, with the time that is left. Verdicts (``VERDICTS``):
 
 - ``killed``: a property is falsified, its counterexample replays on the mutant at the same step, and the real
   model does not violate it on those inputs (:attr:`atcs.proofs.mutants.MutantRun.killed`);
@@ -154,33 +156,50 @@ def run_mutant(mutant: Mutant, *, timeout_s: float, nodes: tuple[str, ...] | Non
     def outcome(verdict, **kw):
         return Outcome(mutant, verdict, time.monotonic() - start, checks=checks, **kw)
 
-    unknown = []
-    for prop in props:
-        left = timeout_s - (time.monotonic() - start)
-        if left <= 0:
-            unknown.append(f"{prop.name}: not run, the mutant's {timeout_s:g} s were spent")
-            checks.append(Check(prop.name, "not run", 0.0))
-            continue
-        try:
-            with mutated(mutant, props) as registry:
-                result = prove(registry[prop.name], timeout_s=left, lemmas=registry, proved=proved)
-        except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
-            return outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
-        checks.append(Check(prop.name, result.status, round(result.seconds, 3), result.message))
-        if result.status == "falsified":
-            run = MutantRun(result, result.replay, replay(prop, result.trace))
-            if run.killed:
-                return outcome("killed", killed_by=prop.name, k=result.k, message=result.message, run=run)
-            unknown.append(f"{prop.name}: falsified, but the real model also fails on those inputs")
-        elif result.status == "error" and not result.message.startswith("lemma "):
-            return outcome("incompetent", message=f"{prop.name}: {result.message}")
-        elif result.status not in ("proved", "vacuous"):
-            unknown.append(f"{prop.name}: {result.status}: {result.message}".rstrip(": "))
+    unknown: dict[str, str] = {}  # property -> why it did not kill (a second try may still)
+    done: set[str] = set()  # proved, vacuous, or falsified on the real model too: not tried again
+    share = timeout_s / max(len(props), 1)
+    for first_pass in (True, False):
+        if not first_pass:  # a lemma that ran out of its share is tried again with the time left
+            for name in [name for name, r in proved.items() if r.status == "unknown"]:
+                del proved[name]
+        for prop in props if first_pass else [p for p in props if p.name in unknown and p.name not in done]:
+            left = timeout_s - (time.monotonic() - start)
+            if left <= 0:
+                unknown[prop.name] = f"{prop.name}: not run, the mutant's {timeout_s:g} s were spent"
+                _record(checks, Check(prop.name, "not run", 0.0))
+                continue
+            try:
+                with mutated(mutant, props) as registry:
+                    result = prove(registry[prop.name], timeout_s=min(left, share) if first_pass else left,
+                                   lemmas=registry, proved=proved)
+            except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
+                return outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
+            _record(checks, Check(prop.name, result.status, round(result.seconds, 3), result.message))
+            if result.status == "falsified":
+                run = MutantRun(result, result.replay, replay(prop, result.trace))
+                if run.killed:
+                    return outcome("killed", killed_by=prop.name, k=result.k, message=result.message, run=run)
+                unknown[prop.name] = f"{prop.name}: falsified, but the real model also fails on those inputs"
+                done.add(prop.name)
+            elif result.status == "error" and not result.message.startswith("lemma "):
+                return outcome("incompetent", message=f"{prop.name}: {result.message}")
+            elif result.status in ("proved", "vacuous"):
+                unknown.pop(prop.name, None)
+                done.add(prop.name)
+            else:
+                unknown[prop.name] = f"{prop.name}: {result.status}: {result.message}".rstrip(": ")
     if unknown:
-        return outcome("timeout", message="; ".join(unknown))
+        return outcome("timeout", message="; ".join(unknown.values()))
     if not props:
         return outcome("incompetent", message="no selected node's proofs run this function")
     return outcome("survived", message=f"{len(props)} properties proved about the mutant")
+
+
+def _record(checks: list[Check], check: Check) -> None:
+    """Keep one check per property: its last try."""
+    checks[:] = [c for c in checks if c.property != check.property]
+    checks.append(check)
 
 
 _worker_mutants: dict[str, Mutant] = {}

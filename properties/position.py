@@ -204,6 +204,22 @@ def _implausible_tacho(o, p, s, i, out, nxt):
     return o.implies(implausible, _invalid(o, out))
 
 
+def _localises_at_known_tag(o, p, s, i, out, nxt):
+    known = o.or_(*(o.eq(i.tag_id, tag_id) for tag_id in p.tag_ids))
+    return o.implies(o.and_(o.not_(s.localised), i.tag_read, known), out.position_valid)
+
+
+def _no_fault_within_window(o, p, s, i, out, nxt):
+    w = p.tag_window_m
+    within = []
+    for j, (at, next_id, next_m) in enumerate(_next_tag(o, p, s)):
+        low, high = _odometry(o, p, s, i, j)
+        reads_next_in_window = o.and_(i.tag_read, o.eq(i.tag_id, next_id), next_m - w <= high, low <= next_m + w)
+        not_yet_due = o.and_(o.not_(i.tag_read), low <= next_m + w)
+        within.append(o.and_(at, o.or_(reads_next_in_window, not_yet_due)))
+    return o.implies(o.and_(s.localised, o.or_(*within)), out.position_valid)
+
+
 def _property(name, requirement, text, holds, assumptions=(), lemmas=(), seed="001 §3.2"):
     return Property(
         name=f"position.{name}", requirement=requirement, seed=seed, text=text, node=POSITION_LOOP, holds=holds,
@@ -297,6 +313,21 @@ PROPERTIES = (
         "Not over-restrictive: with EB not latched, the position valid and the speed's upper bound (estimate plus "
         "accuracy) at or under the permitted speed, no brake, no traction cut and no warning.",
         _no_intervention_at_permitted, (CURVE_ORDER,), seed="001 §3.2, 000 §2.4.2",
+    ),
+    # the tag checks not stricter than stated (survivors of atcs mutate: POS-12 needs a fault-free reader, so
+    # it says nothing at the windows' edges, and nothing from power-up)
+    _property(
+        "localises_at_known_tag", "POS-15",
+        "From power-up or after a fault, the first read of a tag of the table (tachometer plausible: sensors "
+        "within their stated errors, motion within the acceleration bounds) makes the position valid.",
+        _localises_at_known_tag, (TABLE, TACHOMETER, KINEMATICS),
+    ),
+    _property(
+        "no_fault_within_window", "POS-16",
+        "The tag window's edges are inclusive: a valid position stays valid when the next tag is read with the "
+        "odometry interval meeting its window, or when no tag is read while the min safe front is not past the "
+        "next tag's window (tachometer plausible as for POS-15).",
+        _no_fault_within_window, (TABLE, TACHOMETER, KINEMATICS), ("lrt_in_table",),
     ),
 )
 

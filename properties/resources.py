@@ -84,6 +84,38 @@ def _idle_unchanged(o, p, s, i, out, nxt):
     return o.and_(*facts)
 
 
+def _delivery_consumes(o, p, s, i, out, nxt):
+    facts = []
+    for j, _, _ in _slots(s):
+        up_arrives = o.and_(i.deliver_up[j], o.not_(o.eq(s.up[j], o.const(NO_MESSAGE))))
+        down_arrives = o.and_(i.deliver_down[j], o.not_(o.eq(s.down[j], o.const(NO_MESSAGE))))
+        facts += [o.implies(up_arrives, o.eq(nxt.up[j], o.const(NO_MESSAGE))),
+                  o.implies(down_arrives, o.eq(nxt.down[j], o.const(NO_MESSAGE)))]
+    return o.and_(*facts)
+
+
+def _manager_acts_on_delivery(o, p, s, i, out, nxt):
+    trains, resources = slot_count(s)
+
+    def delivered(j):
+        return o.and_(i.deliver_up[j], o.not_(o.eq(s.up[j], o.const(NO_MESSAGE))))
+
+    return o.and_(*(o.implies(o.not_(o.eq(nxt.owner[r], s.owner[r])),
+                              o.or_(*(delivered(train * resources + r) for train in range(trains))))
+                    for r in range(resources)))
+
+
+def _sends_when_commanded(o, p, s, i, out, nxt):
+    facts = []
+    for j, _, _ in _slots(s):
+        reply = o.and_(i.deliver_down[j], o.not_(o.eq(s.down[j], o.const(NO_MESSAGE))))
+        free_to_send = o.or_(o.eq(s.holding[j], o.const(FREE)), o.eq(s.holding[j], o.const(HELD)))
+        sent = o.not_(o.eq(nxt.up[j], o.const(NO_MESSAGE)))
+        facts.append(o.implies(o.eq(s.up[j], o.const(NO_MESSAGE)),
+                               o.eq(sent, o.and_(i.send[j], o.not_(reply), free_to_send))))
+    return o.and_(*facts)
+
+
 PROPERTIES = (
     Property(
         name="resources.protocol_consistent",
@@ -125,6 +157,34 @@ PROPERTIES = (
         ),
         node=RESOURCES,
         holds=_idle_unchanged,
+    ),
+    # the message handling itself (survivors of atcs mutate: the safety claims above allow a protocol that
+    # acts on undelivered messages, ignores delivered ones or never sends)
+    Property(
+        name="resources.delivery_consumes",
+        requirement="RES-08",
+        seed="001 §3.2 (Fig. 5)",
+        text="A message delivered on either channel is taken off it in that cycle (handled, not left in flight).",
+        node=RESOURCES,
+        holds=_delivery_consumes,
+    ),
+    Property(
+        name="resources.manager_acts_on_delivery",
+        requirement="RES-09",
+        seed="001 §3.2 (Fig. 5)",
+        text="The manager changes a resource's owner only in a cycle in which a train's message about it is "
+             "delivered.",
+        node=RESOURCES,
+        holds=_manager_acts_on_delivery,
+    ),
+    Property(
+        name="resources.sends_when_commanded",
+        requirement="RES-10",
+        seed="001 §3.2 (Fig. 5)",
+        text="With nothing of its own in flight, a train sends a request or release exactly when commanded to, "
+             "no reply arrives that cycle, and the resource is free to it or held (not mid-exchange).",
+        node=RESOURCES,
+        holds=_sends_when_commanded,
     ),
 )
 

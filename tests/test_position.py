@@ -93,6 +93,17 @@ MUTANTS = {
         position_loop.position_loop_step, "over_permitted=speed > i.permitted_mps",
         "over_permitted=speed >= i.permitted_mps",
     ),
+    # every read taken for an unexpected one, so the position is never valid (atcs mutate's bool_swap at
+    # position_step:+14)
+    "position.localises_at_known_tag": (
+        position.position_step, "unexpected_tag = o.and_(s.localised, i.tag_read, known, o.not_(expected))",
+        "unexpected_tag = o.or_(s.localised, i.tag_read, known, o.not_(expected))",
+    ),
+    # the window's upper edge exclusive (cmp_strict at position_step:+15)
+    "position.no_fault_within_window": (
+        position.position_step, "o.or_(high < next_m - w, low > next_m + w)",
+        "o.or_(high <= next_m - w, low > next_m + w)",
+    ),
 }
 
 

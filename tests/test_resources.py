@@ -32,6 +32,17 @@ MUTANTS = {
     # a train sends a request or release it was not asked to send
     "resources.idle_slot_unchanged": ("sends = o.and_(i.send[j], o.not_(reply), is_(s.up[j], NO_MESSAGE))",
                                       "sends = o.and_(o.not_(reply), is_(s.up[j], NO_MESSAGE))"),
+    # the manager leaves a delivered message in flight (atcs mutate's not_drop at resource_step:+15)
+    "resources.delivery_consumes": ("arrives = o.and_(i.deliver_up[j], o.not_(is_(s.up[j], NO_MESSAGE)))",
+                                    "arrives = o.and_(i.deliver_up[j], is_(s.up[j], NO_MESSAGE))"),
+    # the manager handles a message before it is delivered (bool_swap at resource_step:+15)
+    "resources.manager_acts_on_delivery": (
+        "arrives = o.and_(i.deliver_up[j], o.not_(is_(s.up[j], NO_MESSAGE)))",
+        "arrives = o.or_(i.deliver_up[j], o.not_(is_(s.up[j], NO_MESSAGE)))",
+    ),
+    # a train sends only in a cycle a reply arrives, so never (not_drop at resource_step:+28)
+    "resources.sends_when_commanded": ("sends = o.and_(i.send[j], o.not_(reply), is_(s.up[j], NO_MESSAGE))",
+                                       "sends = o.and_(i.send[j], reply, is_(s.up[j], NO_MESSAGE))"),
 }
 
 
