@@ -10,6 +10,9 @@ itself, its lemmas assumed. Its certificate is three kinds of script, each of wh
   and failing at step k (one script per case when the property splits its step, plus the states in no case);
 - ``invariant``: a step where ``phi`` holds and the property does not.
 
+When every state is initial (a stateless node) the base omits the initial condition (it is ``true``); at k = 0
+the base and the step are then one formula, checked once by each solver (the second check records that).
+
 Together they are the engine's argument: no run violates the property within k + 1 steps, and a shortest
 violation longer than that would end in a simple path the step rules out. The scripts are standalone SMT-LIB
 (``(set-logic ALL)``, declarations, assertions, ``(check-sat)``): any SMT solver can re-check them. Here each
@@ -53,6 +56,12 @@ class Obligation:
     def sha256(self) -> str:
         return hashlib.sha256(self.script.encode()).hexdigest()
 
+    @property
+    def formula(self) -> str:
+        """The script without its comments: two checks with the same formula have the same verdict (for k = 0
+        on a node whose every state is initial, the base and the step are one formula)."""
+        return "\n".join(line for line in self.script.splitlines() if not line.startswith(";"))
+
 
 @dataclass(frozen=True)
 class SolverCheck:
@@ -76,8 +85,10 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
         frames = [u.frame(j) for j in range(k + 1)]
         path = [z3.And(f.trans, f.assumed, f.lemmas) for f in frames]
         header = f"{prop.name} ({prop.requirement}), k = {k}"
+        init = u.init()
+        initial = [] if z3.is_true(z3.simplify(init)) else [init]  # a stateless node: every state is initial
         result = [Obligation("base", f"no run from an initial state violates {prop.name} within {k + 1} steps",
-                             _script(header, "base", [u.init(), *path, z3.Not(z3.And(*(f.prop for f in frames)))]))]
+                             _script(header, "base", [*initial, *path, z3.Not(_all(f.prop for f in frames))]))]
         step = [*path, *(u.distinct(j, k) for j in range(k)), *(f.prop for f in frames[:k]), z3.Not(frames[k].prop)]
         claim = (f"{prop.name} holds after any {k} distinct steps on which it held" if k else
                  f"{prop.name} holds in every state and input that meet its assumptions")
@@ -95,6 +106,11 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
             "invariant", f"the invariant (the property itself, k = {k}) implies {prop.name}",
             _script(header, "invariant", [first.trans, first.assumed, first.lemmas, first.prop, z3.Not(first.prop)])))
         return tuple(result)
+
+
+def _all(terms) -> z3.BoolRef:
+    terms = list(terms)
+    return terms[0] if len(terms) == 1 else z3.And(*terms)
 
 
 def _script(header: str, check: str, assertions: list) -> str:

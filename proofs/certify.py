@@ -105,12 +105,19 @@ def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float],
         return Certified(name, prop.requirement, k, prop.lemmas, (), (), "error", f"{type(exc).__name__}: {exc}")
     checks = []
     gave_up = {"cvc5": "cvc5 was not asked (--z3-only)"} if z3_only else {}
+    done: dict[tuple[str, str], SolverCheck] = {}  # (solver, formula) -> its check
     for ob in obs:
         for solver in SOLVERS:
             if solver in gave_up:  # that solver cannot confirm this property any more: say so, do not wait again
                 checks.append(SolverCheck(solver, ob.check, "unknown", 0.0, f"not checked: {gave_up[solver]}"))
                 continue
+            same = done.get((solver, ob.formula))
+            if same is not None:  # the same formula: the same verdict, not checked twice
+                checks.append(SolverCheck(solver, ob.check, same.verdict, 0.0, f"the formula of {same.check}",
+                                          same.resource_units))
+                continue
             check = check_obligation(solver, ob, limits[solver], cvc5_resource_limit if solver == "cvc5" else None)
+            done[(solver, ob.formula)] = check
             checks.append(check)
             if check.verdict == "unknown":
                 gave_up[solver] = f"{solver} said unknown on {ob.check}"

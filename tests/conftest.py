@@ -27,11 +27,14 @@ CERTIFY_TIMEOUTS_S = {"z3": 600, "cvc5": 300}
 seven times its longest check on the properties it confirms in the suite (README, ``atcs certify``), so that a
 slower machine gives the same verdicts."""
 
-CERTIFY_Z3_ONLY = ("closed_loop.braking_invariant_*", "separation.braking_invariant_*", "separation.no_collision_rbd_*",
-                   "mrsp.psl_matches_definition", "mrsp.restricted_matches_definition", "mrsp.incremental_equals_full")
-"""The certificates the suite checks with z3 alone (``--z3-only``), so they stay ``unconfirmed``: cvc5 takes tens of
-seconds to minutes on each of their 16 step cases, or minutes to no answer within 600 s on one check (README,
-``atcs certify``), more than the suite's time."""
+CERTIFY_Z3_ONLY = ("closed_loop.braking_invariant_seed000",
+                   "separation.braking_invariant_bw_seed000", "separation.braking_invariant_bw_seed002",
+                   "separation.braking_invariant_rbd_seed000", "separation.braking_invariant_rbd_seed002",
+                   "separation.no_collision_rbd_seed000", "separation.no_collision_rbd_seed002",
+                   "mrsp.psl_matches_definition", "mrsp.incremental_equals_full")
+"""The certificates the suite checks with z3 alone (``--z3-only``), so they stay ``unconfirmed``: cvc5 needs 90 s
+to 14 min for each on an idle machine, over an hour for the nine, one check past 600 s (README, ``atcs certify``),
+more than the suite's time."""
 
 _BACKGROUND = """
 import json
