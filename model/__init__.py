@@ -4,15 +4,15 @@
 under every backend.
 """
 
-from atcs.model.authority import AUTHORITY
+from atcs.model.authority import AUTHORITY, STOPPING_POINT
 from atcs.model.closed_loop import CLOSED_LOOP
-from atcs.model.curves import CURVES
+from atcs.model.curves import ADHESION, CEILING_OFFSET, CURVES
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT
-from atcs.model.position import POSITION
+from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
@@ -21,6 +21,7 @@ from atcs.model.supervision import SUPERVISION
 
 NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
                                                          CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
-                                                         AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP)}
+                                                         AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP,
+                                                         CEILING_OFFSET, STOPPING_POINT, TACHO_CHECK, ADHESION)}
 
 __all__ = ["NODES", "Node"]

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.curves import FAR_M, MIN_SPAN
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
 
 PROOF_ROUTE_RESOURCES = 8
@@ -190,3 +190,43 @@ AUTHORITY = Node(
         "resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse", "held",
         "switch_locked", "switch_reversed", "request", "release", "switch_command")},
 )
+
+
+# --- the leader's stopping point as a sub-function node -------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class StoppingPointParams(Generic[N, B]):
+    leader_max_deceleration_mps2: N
+    """The leader's highest deceleration (its emergency brake on a dry rail)."""
+
+
+@dataclass(frozen=True)
+class StoppingPointQuery(Generic[N, B]):
+    rear_m: N
+    """The leader's reported rear."""
+    speed_mps: N
+    """The leader's reported speed."""
+
+
+@dataclass(frozen=True)
+class StoppingPointOutputs(Generic[N, B]):
+    stop_m: N
+    """Where the leader's rear stops at the earliest."""
+
+
+def stopping_point_step(o: Ops, p: StoppingPointParams, s: Stateless, i: StoppingPointQuery):
+    return s, StoppingPointOutputs(stopping_point_m(o, p, i.rear_m, i.speed_mps))
+
+
+STOPPING_POINT = Node(
+    name="stopping_point",
+    params=StoppingPointParams,
+    state=Stateless,
+    inputs=StoppingPointQuery,
+    outputs=StoppingPointOutputs,
+    init=always,
+    step=stopping_point_step,
+    seed="000 §2.2, 002 §4.2",
+)
+""":func:`stopping_point_m` (the relative-braking bound of a leader's report) as a sub-function of its own."""

@@ -232,3 +232,88 @@ CURVES = Node(
 )
 """The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
 and the query speed and acceleration symbolic; train and national data as each property fixes them."""
+
+
+# --- dV as a sub-function node: the speed-dependent ceiling offset on its own ---------------------------------
+
+
+@dataclass(frozen=True)
+class CeilingOffsetParams(Generic[N, B]):
+    """One of dV_ebi, dV_sbi, dV_warning (Subset-026 3.13.9.3): its two offsets and the speeds between which it
+    is interpolated."""
+
+    dv_min_mps: N
+    dv_max_mps: N
+    v_min_mps: N
+    v_max_mps: N
+
+
+@dataclass(frozen=True)
+class CeilingOffsetQuery(Generic[N, B]):
+    speed_mps: N
+    """The MRSP (or target speed) the offset is added to."""
+
+
+@dataclass(frozen=True)
+class CeilingOffsetOutputs(Generic[N, B]):
+    offset_mps: N
+
+
+def ceiling_offset_step(o: Ops, p: CeilingOffsetParams, s: Stateless, i: CeilingOffsetQuery):
+    return s, CeilingOffsetOutputs(ceiling_offset_mps(o, i.speed_mps, p.dv_min_mps, p.dv_max_mps, p.v_min_mps,
+                                                      p.v_max_mps))
+
+
+CEILING_OFFSET = Node(
+    name="ceiling_offset",
+    params=CeilingOffsetParams,
+    state=Stateless,
+    inputs=CeilingOffsetQuery,
+    outputs=CeilingOffsetOutputs,
+    init=always,
+    step=ceiling_offset_step,
+    seed="000 §2.4.2, 002 §3.2",
+)
+""":func:`ceiling_offset_mps` as a sub-function of its own (seed 001 §3.4: each sub-function tested alone), all
+four national values symbolic."""
+
+
+# --- the adhesion factor as a sub-function node -----------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class AdhesionParams(Generic[N, B]):
+    kdry_rst: N
+    """The train's brake-performance correction on a dry rail (train data)."""
+    kwet_rst: N
+    """The train's correction on a wet rail (train data)."""
+    m_nvavadh: N
+    """The weighting between wet and dry rail (national value: 0 wet, 1 dry)."""
+
+
+@dataclass(frozen=True)
+class AdhesionQuery(Generic[N, B]):
+    pass
+
+
+@dataclass(frozen=True)
+class AdhesionOutputs(Generic[N, B]):
+    k: N
+    """K, the factor on the emergency deceleration the EBD is computed with."""
+
+
+def adhesion_step(o: Ops, p: AdhesionParams, s: Stateless, i: AdhesionQuery):
+    return s, AdhesionOutputs(adhesion_factor(o, p, p))
+
+
+ADHESION = Node(
+    name="adhesion",
+    params=AdhesionParams,
+    state=Stateless,
+    inputs=AdhesionQuery,
+    outputs=AdhesionOutputs,
+    init=always,
+    step=adhesion_step,
+    seed="000 §2.4.1 (Subset-026 3.13.6.2)",
+)
+""":func:`adhesion_factor` as a sub-function of its own."""

@@ -44,7 +44,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Generic
 
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import parse_number
 
@@ -328,3 +328,48 @@ def tacho_distance_m(pulses, wheel_diameter_m, pulses_per_revolution):
     """The distance ``pulses`` tachometer pulses stand for on a wheel of ``wheel_diameter_m`` (float: the
     simulator's sensor; the diameter's uncertainty belongs in ``tacho_error``)."""
     return pulses * math.pi * wheel_diameter_m / pulses_per_revolution
+
+
+# --- the tachometer's plausibility check as a sub-function node ------------------------------------------------
+
+
+@dataclass(frozen=True)
+class TachoCheckParams(Generic[N, B]):
+    tacho_error: N
+    cycle_s: N
+    max_acceleration_mps2: N
+    max_deceleration_mps2: N
+
+
+@dataclass(frozen=True)
+class TachoCheckInputs(Generic[N, B]):
+    last_tacho_m: N
+    """The tachometer's distance of the previous cycle."""
+    tacho_m: N
+    """The tachometer's distance of this cycle."""
+    last_distance_m: N
+    """The true distance of the previous cycle (properties only)."""
+    distance_m: N
+    """The true distance of this cycle (properties only)."""
+
+
+@dataclass(frozen=True)
+class TachoCheckOutputs(Generic[N, B]):
+    implausible_tacho: B
+
+
+def tacho_check_step(o: Ops, p: TachoCheckParams, s: Stateless, i: TachoCheckInputs):
+    return s, TachoCheckOutputs(implausible_increment(o, p, i.last_tacho_m, i.tacho_m))
+
+
+TACHO_CHECK = Node(
+    name="tacho_check",
+    params=TachoCheckParams,
+    state=Stateless,
+    inputs=TachoCheckInputs,
+    outputs=TachoCheckOutputs,
+    init=always,
+    step=tacho_check_step,
+    seed="001 §3.2, 002 §3.1",
+)
+""":func:`implausible_increment` (standstill while running, spin, slide) as a sub-function of its own."""

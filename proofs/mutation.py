@@ -21,6 +21,7 @@ from __future__ import annotations
 import dataclasses
 import fnmatch
 import multiprocessing
+import signal
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -35,8 +36,9 @@ from atcs.properties.property import Property
 VERDICTS = ("killed", "survived", "timeout", "incompetent", "equivalent")
 COUNTED = ("killed", "survived", "timeout")
 """The verdicts the kill rate's denominator counts."""
-NODE_ORDER = ("supervision", "door_enable", "dcu", "door_loop", "resources", "authority", "deceleration", "mrsp",
-              "psl", "position_loop", "curves", "mrsp_update", "closed_loop", "separation")
+NODE_ORDER = ("ceiling_offset", "stopping_point", "tacho_check", "supervision", "door_enable", "dcu", "door_loop",
+              "resources", "authority", "deceleration", "mrsp", "psl", "position_loop", "curves", "mrsp_update",
+              "closed_loop", "separation")
 """Nodes by the cost of their proofs (README, proof figures): a mutant meets the cheap proofs first."""
 
 
@@ -140,17 +142,47 @@ def mutated(mutant: Mutant, props: list[Property]) -> Iterator[dict[str, Propert
         yield {p.name: dataclasses.replace(p, node=nodes[p.node.name]) for p in props}
 
 
+HANG_GRACE_S = 60
+"""How long past its time limit a mutant may still run before it is stopped: the solver keeps to the limit, but
+the mutant's own Python code may not return at all (``while len(profiles) > 1`` made ``>= 1``)."""
+
+
+class _Hang(BaseException):
+    """Raised by the alarm in a mutant that overran its time limit and grace (a BaseException, so that no
+    ``except Exception`` on the way turns it into a verdict)."""
+
+
 def run_mutant(mutant: Mutant, *, timeout_s: float, nodes: tuple[str, ...] | None = None) -> Outcome:
     """Prove the affected properties (of ``nodes`` only, if given) about ``mutant`` until one kills it, within
-    ``timeout_s`` in all."""
-    from atcs.proofs.engine import prove
-    from atcs.proofs.trace import replay
-
+    ``timeout_s`` in all; a mutant still running :data:`HANG_GRACE_S` after that is stopped (``timeout``)."""
     if not timeout_s > 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
     start = time.monotonic()
-    props = affected_properties(mutant, nodes)
     checks: list[Check] = []
+
+    def overran(signum, frame):
+        raise _Hang
+
+    limit = timeout_s + HANG_GRACE_S
+    previous = signal.signal(signal.SIGALRM, overran)
+    signal.setitimer(signal.ITIMER_REAL, limit)
+    try:
+        return _run_mutant(mutant, timeout_s, nodes, start, checks)
+    except _Hang:
+        return Outcome(mutant, "timeout", time.monotonic() - start, checks=checks,
+                       message=f"stopped {limit:g} s after it started: the mutant's own code did not return "
+                               "(a loop that never ends?)")
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def _run_mutant(mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None, start: float,
+                checks: list[Check]) -> Outcome:
+    from atcs.proofs.engine import prove
+    from atcs.proofs.trace import replay
+
+    props = affected_properties(mutant, nodes)
     proved: dict = {}
 
     def outcome(verdict, **kw):

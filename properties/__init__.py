@@ -18,6 +18,7 @@ from atcs.properties import (
     preprocessing,
     resources,
     separation,
+    sub_functions,
     supervision,
 )
 from atcs.properties.property import Assumption, Property
@@ -40,7 +41,7 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
     curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
-    authority.PROPERTIES, separation.PROPERTIES, doors.PROPERTIES,
+    authority.PROPERTIES, separation.PROPERTIES, doors.PROPERTIES, sub_functions.PROPERTIES,
 )
 
 

@@ -71,6 +71,15 @@ def _ordered(o, p, s, i, out, nxt):
     )
 
 
+def _spaced(o, p, s, i, out, nxt):
+    v = i.speed_mps
+    return o.and_(
+        o.eq(out.ebi_m - out.sbi_m, v * p.t_bs_s), o.eq(out.sbi_m - out.warning_m, v * p.t_warning_s),
+        o.eq(out.sbi_m - out.permitted_m, v * p.t_driver_s), o.eq(out.permitted_m - out.indication_m,
+                                                                    v * p.t_indication_s),
+    )
+
+
 def _ebi_protects_ebd(o, p, s, i, out, nxt):
     """At or behind the EBI, the worst case until the brake is effective stays behind the EBD."""
     zero = o.const(0)
@@ -117,6 +126,20 @@ def _properties(preset: str):
             ),
             node=CURVES,
             holds=_ebi_protects_ebd,
+            assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.spacing_{preset}",
+            requirement="CRV-06",
+            seed="000 §2.4.2, 002 §3.2 (Subset-026 3.13.9.3)",
+            text=(
+                f"With the {preset} data: SBI is the speed times T_bs before EBI, the warning T_warning and the "
+                "permitted speed T_driver before SBI, the indication T_indication before the permitted speed (so "
+                "each curve leaves the driver its stated time, not more and not less)."
+            ),
+            node=CURVES,
+            holds=_spaced,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
         ),

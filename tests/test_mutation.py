@@ -115,6 +115,35 @@ class TestCampaign:
         outcome = mutation.run_mutant(m, timeout_s=0.05)
         assert outcome.verdict == "timeout" and outcome.killed_by is None
 
+    def test_a_mutant_whose_code_never_returns_is_stopped_as_a_timeout(self, mutants, monkeypatch):
+        m = next(m for m in mutants if m.id == "psl.merge_min:+8:cmp_strict:> -> >=")  # while len(...) >= 1
+        monkeypatch.setattr(mutation, "HANG_GRACE_S", 1)
+        outcome = mutation.run_mutant(m, timeout_s=1)
+        assert outcome.verdict == "timeout" and "did not return" in outcome.message and outcome.seconds < 30
+
+    def test_each_property_gets_a_share_first_and_the_rest_after(self, mutants, monkeypatch):
+        """A slow first property does not starve the one after it that kills the mutant."""
+        m = next(m for m in mutants if m.id == "supervision.supervision_step:+4:cmp_strict:> -> >=")
+        limits = []
+        real = mutation.affected_properties
+
+        def two_properties(mutant, nodes=None):
+            return [p for p in real(mutant, nodes) if p.name in ("supervision.eb_latched_until_standstill",
+                                                                 "supervision.eb_above_ebi")]
+
+        import atcs.proofs.engine as engine
+
+        prove = engine.prove
+
+        def recording(prop, *, timeout_s, **kw):
+            limits.append((prop.name, round(timeout_s)))
+            return prove(prop, timeout_s=timeout_s, **kw)
+
+        monkeypatch.setattr(mutation, "affected_properties", two_properties)
+        monkeypatch.setattr(engine, "prove", recording)
+        outcome = mutation.run_mutant(m, timeout_s=60)
+        assert [limit for _, limit in limits] == [30] * len(limits) and outcome.verdict in ("killed", "survived")
+
     def test_a_mutant_that_cannot_be_made_is_incompetent(self, mutants):
         m = dataclasses.replace(mutants[0], old="no such text", new="x")
         outcome = mutation.run_mutant(m, timeout_s=10)
