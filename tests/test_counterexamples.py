@@ -333,9 +333,11 @@ class TestSmoothing:
         prop, plain, smoothed = false_alarm
         assert smoothed.k == plain.k
         s = smoothed.smoothing
-        assert s.original_changes == input_changes(plain.trace) == 4
-        assert s.changes == input_changes(smoothed.trace) == 2 <= s.original_changes
-        assert s.status == "minimal" and "smoothed: 4 -> 2 input changes (minimal)" in smoothed.message
+        # BMC's own run changes more inputs (how many depends on z3's model); the least is 2 (the next test)
+        assert s.original_changes == input_changes(plain.trace) > 2
+        assert s.changes == input_changes(smoothed.trace) == 2
+        assert s.status == "minimal"
+        assert f"smoothed: {s.original_changes} -> 2 input changes (minimal)" in smoothed.message
         with patched(*SLACK_MUTANT):
             assert reproduce(prop, smoothed.trace).first_violation == smoothed.k
         assert plain.smoothing is None
@@ -380,15 +382,15 @@ class TestSmoothing:
         assert model is check.model and s.status == "not minimal" and "time ran out" in s.message
 
     def test_cli_records_the_changes(self, false_alarm, registered, tmp_path):
-        prop, _, _ = false_alarm
+        prop, plain, _ = false_alarm
         registered(dataclasses.replace(prop, name="mutant.no_false_alarm"))
         report, cex = tmp_path / "r.json", tmp_path / "cex"
         with patched(*SLACK_MUTANT):
             assert main(["prove", "--only", "mutant.*", "--smooth", "--json", str(report), "--cex-dir", str(cex)]) == 1
         (record,) = json.loads(report.read_text())["properties"]
         assert record["input_changes"] == 2
-        assert record["smoothing"] == {"status": "minimal", "original_input_changes": 4, "input_changes": 2,
-                                       "message": ""}
+        assert record["smoothing"] == {"status": "minimal", "original_input_changes": input_changes(plain.trace),
+                                       "input_changes": 2, "message": ""}
         doc = json.loads((cex / "mutant.no_false_alarm.json").read_text())
         assert doc["input_changes"] == 2 and doc["smoothing"]["status"] == "minimal"
         for suffix in (".csv", ".vcd", ".png"):
