@@ -116,6 +116,20 @@ def _sends_when_commanded(o, p, s, i, out, nxt):
     return o.and_(*facts)
 
 
+def _grants_free_resource(o, p, s, i, out, nxt):
+    trains, resources = slot_count(s)
+
+    def requested(train, r):
+        j = train * resources + r
+        return o.and_(i.deliver_up[j], o.eq(s.up[j], o.const(REQUEST)))
+
+    return o.and_(*(
+        o.implies(o.and_(requested(train, r), o.eq(s.owner[r], o.const(0)),
+                         *(o.not_(requested(earlier, r)) for earlier in range(train))),
+                  o.eq(nxt.owner[r], o.const(train + 1)))
+        for train in range(trains) for r in range(resources)))
+
+
 PROPERTIES = (
     Property(
         name="resources.protocol_consistent",
@@ -185,6 +199,15 @@ PROPERTIES = (
              "no reply arrives that cycle, and the resource is free to it or held (not mid-exchange).",
         node=RESOURCES,
         holds=_sends_when_commanded,
+    ),
+    Property(
+        name="resources.grants_free_resource",
+        requirement="RES-11",
+        seed="001 §3.2 (Fig. 5)",
+        text="Not over-restrictive: a delivered request for a resource nobody owns is granted, unless a train "
+             "earlier in slot order requests it in the same cycle.",
+        node=RESOURCES,
+        holds=_grants_free_resource,
     ),
 )
 

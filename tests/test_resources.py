@@ -40,6 +40,9 @@ MUTANTS = {
         "arrives = o.and_(i.deliver_up[j], o.not_(is_(s.up[j], NO_MESSAGE)))",
         "arrives = o.or_(i.deliver_up[j], o.not_(is_(s.up[j], NO_MESSAGE)))",
     ),
+    # a resource counted free only while train 1 owns it, so never granted (atcs mutate's literal at
+    # resource_step:+17)
+    "resources.grants_free_resource": ("free, mine = is_(owner[r], 0)", "free, mine = is_(owner[r], 1)"),
     # a train sends only in a cycle a reply arrives, so never (not_drop at resource_step:+28)
     "resources.sends_when_commanded": ("sends = o.and_(i.send[j], o.not_(reply), is_(s.up[j], NO_MESSAGE))",
                                        "sends = o.and_(i.send[j], reply, is_(s.up[j], NO_MESSAGE))"),
