@@ -83,7 +83,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("prove", help="prove the registered safety properties")
-    p.add_argument("--only", metavar="PATTERN", help="glob over property names, e.g. 'supervision.*'")
+    p.add_argument("--only", metavar="PATTERN", action="append",
+                   help="glob over property names, e.g. 'supervision.*'; repeatable (the properties any matches)")
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
     p.add_argument("--timeout", metavar="SECONDS", type=_positive_float, default=600.0,
@@ -100,7 +101,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     f = sub.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it with "
                        "z3 and cvc5")
-    f.add_argument("--only", metavar="PATTERN", help="glob over property names, e.g. 'supervision.*'")
+    f.add_argument("--only", metavar="PATTERN", action="append",
+                   help="glob over property names, e.g. 'supervision.*'; repeatable (the properties any matches)")
     f.add_argument("--report", metavar="FILE", help="take the proofs' depths from this atcs prove --json report "
                    "(default: prove first)")
     f.add_argument("--dir", metavar="DIR", default="certificates",
@@ -223,15 +225,21 @@ def main(argv: list[str] | None = None) -> int:
 # --- prove -------------------------------------------------------------------------------
 
 
-def _selected(command: str, pattern: str | None) -> list:
-    """The registered properties ``--only`` selects (all without it); none is a usage error."""
+def _selected(command: str, patterns: list[str] | None) -> list:
+    """The registered properties any ``--only`` glob selects (all without one); a glob that matches no
+    property is a usage error."""
     from atcs.properties import PROPERTIES, select
 
-    props = select(pattern)
-    if not props:
-        modules = sorted({p.module for p in PROPERTIES.values()})
-        raise UsageError(f"{command}: --only {pattern!r} matches no property (modules: {', '.join(modules)})")
-    return props
+    if not patterns:
+        return select()
+    chosen: set[str] = set()
+    for pattern in patterns:
+        props = select(pattern)
+        if not props:
+            modules = sorted({p.module for p in PROPERTIES.values()})
+            raise UsageError(f"{command}: --only {pattern!r} matches no property (modules: {', '.join(modules)})")
+        chosen.update(p.name for p in props)
+    return [p for name, p in PROPERTIES.items() if name in chosen]
 
 
 def _prove(args, out: Console, err: Console) -> int:

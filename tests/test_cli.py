@@ -63,6 +63,13 @@ class TestProve:
         os.umask(umask)
         assert report.stat().st_mode & 0o777 == 0o666 & ~umask  # an ordinary file, not a private temporary
 
+    def test_only_repeated_selects_every_match_in_registry_order(self, tmp_path):
+        report = tmp_path / "r.json"
+        assert main(["prove", "--only", "supervision.eb_without_position", "--only", "supervision.eb_above_ebi",
+                     "--json", str(report)]) == 0
+        names = [p["name"] for p in json.loads(report.read_text())["properties"]]
+        assert names == ["supervision.eb_above_ebi", "supervision.eb_without_position"]
+
     def test_one_job_gives_the_same_verdicts(self, tmp_path, proof_suite_run):
         """One process (lemma results shared in it) against the session's two workers, on the properties with
         lemmas that prove in seconds."""
@@ -107,6 +114,7 @@ class TestProve:
         ("argv", "expected"),
         [
             (["prove", "--only", "nosuch.*"], "matches no property"),
+            (["prove", "--only", "supervision.*", "--only", "nosuch.*"], "--only 'nosuch.*' matches no property"),
             (["prove", "--json", "/nonexistent-dir/r.json"], "--json /nonexistent-dir/r.json: directory"),
             (["prove", "--junit", "/"], "--junit /: is a directory"),
             (["prove", "--cex-dir", "/etc/hostname/cex"], "--cex-dir"),
