@@ -121,9 +121,25 @@ def _next_state_terms(frames) -> Callable[[z3.ExprRef], z3.ExprRef]:
     same formula with the variables ``field@1 .. field@(k+1)`` (each equal to its term) eliminated. Both
     solvers read the rewritten script; the rewriting is atcs's own, exact and solver-independent."""
     pairs: list[tuple[z3.ExprRef, z3.ExprRef]] = []
-    for frame in frames:
-        pairs += [(var, z3.substitute(term, *pairs) if pairs else term) for var, term in frame.next_values]
+    for j, frame in enumerate(frames):
+        pairs += [(var, z3.substitute(term, *pairs) if pairs else term)
+                  for var, term in _equations(frame.trans, f"@{j + 1}")]
     return lambda term: z3.substitute(term, *pairs)
+
+
+def _equations(trans: z3.BoolRef, suffix: str):
+    """The ``(field@(k+1), term)`` pairs of a frame's transition, a conjunction of ``field@(k+1) == term``
+    (:class:`atcs.proofs.system.Unrolling`): read from the formula, so the engine's frames stay as they are."""
+    if z3.is_and(trans):
+        for part in trans.children():
+            yield from _equations(part, suffix)
+        return
+    if z3.is_true(trans):  # a stateless node
+        return
+    var = trans.arg(0) if z3.is_eq(trans) else None
+    if var is None or not z3.is_const(var) or not var.decl().name().endswith(suffix):
+        raise ValueError(f"a transition conjunct is not an equation 'field{suffix} == term': {trans}")
+    yield var, trans.arg(1)
 
 
 def _all(terms) -> z3.BoolRef:

@@ -60,10 +60,6 @@ def _fixed(node: Node, name: str, value):
     return tuple(_fixed_scalar(node, f"{name}[{j}]", sort.kind, v) for j, v in enumerate(value))
 
 
-def _elements(value) -> tuple:
-    return value if isinstance(value, tuple) else (value,)
-
-
 def equal(left, right) -> Bool:
     """Two field values (scalars or tuples) are equal."""
     if isinstance(left, tuple):
@@ -77,8 +73,6 @@ class Frame:
     inputs: object
     outputs: object
     next_state: object
-    next_values: tuple[tuple[z3.ExprRef, z3.ExprRef], ...]
-    """Each next-state variable ``field@(k+1)`` (one per array element) with the step's term for it."""
     trans: z3.BoolRef
     assumed: z3.BoolRef
     prop: z3.BoolRef
@@ -122,12 +116,10 @@ class Unrolling:
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
         trans = unwrap(o.and_(*(equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state"))))
-        next_values = tuple((unwrap(var), unwrap(term)) for n in node.sorts("state")
-                            for var, term in zip(*(_elements(getattr(r, n)) for r in (nxt, computed)), strict=True))
         assumed = unwrap(self.prop.assumed(o, p, s, i))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
         lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
-        self.frames.append(Frame(s, i, out, nxt, next_values, trans, assumed, holds, lemmas))
+        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, lemmas))
 
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""
