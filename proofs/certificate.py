@@ -10,10 +10,6 @@ itself, its lemmas assumed. Its certificate is three kinds of script, each of wh
   and failing at step k (one script per case when the property splits its step, plus the states in no case);
 - ``invariant``: a step where ``phi`` holds and the property does not.
 
-The transitions are not equations between state variables: every state after step 0 is written as the step's
-term over the state at step 0 and the inputs (:func:`_next_state_terms`), the same formula with those
-variables eliminated. cvc5 answers the separation step cases several times faster so (README, ``atcs certify``).
-
 When every state is initial (a stateless node) the base omits the initial condition (it is ``true``); at k = 0
 the base and the step are then one formula, checked once by each solver (the second check records that).
 
@@ -28,7 +24,7 @@ from __future__ import annotations
 
 import hashlib
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import z3
@@ -87,15 +83,13 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
     with fresh_context():
         u = Unrolling(prop, tuple(lemmas[name] for name in prop.lemmas))
         frames = [u.frame(j) for j in range(k + 1)]
-        closed = _next_state_terms(frames)
-        path = [closed(z3.And(f.assumed, f.lemmas)) for f in frames]
+        path = [z3.And(f.trans, f.assumed, f.lemmas) for f in frames]
         header = f"{prop.name} ({prop.requirement}), k = {k}"
         init = u.init()
         initial = [] if z3.is_true(z3.simplify(init)) else [init]  # a stateless node: every state is initial
-        props = [closed(f.prop) for f in frames]
         result = [Obligation("base", f"no run from an initial state violates {prop.name} within {k + 1} steps",
-                             _script(header, "base", [*initial, *path, z3.Not(_all(props))]))]
-        step = [*path, *(closed(u.distinct(j, k)) for j in range(k)), *props[:k], z3.Not(props[k])]
+                             _script(header, "base", [*initial, *path, z3.Not(_all(f.prop for f in frames))]))]
+        step = [*path, *(u.distinct(j, k) for j in range(k)), *(f.prop for f in frames[:k]), z3.Not(frames[k].prop)]
         claim = (f"{prop.name} holds after any {k} distinct steps on which it held" if k else
                  f"{prop.name} holds in every state and input that meet its assumptions")
         if prop.cases is None:
@@ -106,40 +100,12 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
             for j, case in enumerate(every, start=1):
                 what = f"case {j} of {len(every)}" + (" (the states in no other case)" if j == len(every) else "")
                 result.append(Obligation(f"step_case_{j}", f"{claim}: {what}",
-                                         _script(header, f"step, {what}", [*step, closed(unwrap(case))])))
+                                         _script(header, f"step, {what}", [*step, unwrap(case)])))
         first = frames[0]
         result.append(Obligation(
             "invariant", f"the invariant (the property itself, k = {k}) implies {prop.name}",
-            _script(header, "invariant", [closed(z3.And(first.assumed, first.lemmas, first.prop)),
-                                          z3.Not(closed(first.prop))])))
+            _script(header, "invariant", [first.trans, first.assumed, first.lemmas, first.prop, z3.Not(first.prop)])))
         return tuple(result)
-
-
-def _next_state_terms(frames) -> Callable[[z3.ExprRef], z3.ExprRef]:
-    """Rewrite a term over the frames so that every state after step 0 is the step's term over the state at
-    step 0 and the inputs, not a variable: the transitions are then part of the terms, and each script is the
-    same formula with the variables ``field@1 .. field@(k+1)`` (each equal to its term) eliminated. Both
-    solvers read the rewritten script; the rewriting is atcs's own, exact and solver-independent."""
-    pairs: list[tuple[z3.ExprRef, z3.ExprRef]] = []
-    for j, frame in enumerate(frames):
-        pairs += [(var, z3.substitute(term, *pairs) if pairs else term)
-                  for var, term in _equations(frame.trans, f"@{j + 1}")]
-    return lambda term: z3.substitute(term, *pairs)
-
-
-def _equations(trans: z3.BoolRef, suffix: str):
-    """The ``(field@(k+1), term)`` pairs of a frame's transition, a conjunction of ``field@(k+1) == term``
-    (:class:`atcs.proofs.system.Unrolling`): read from the formula, so the engine's frames stay as they are."""
-    if z3.is_and(trans):
-        for part in trans.children():
-            yield from _equations(part, suffix)
-        return
-    if z3.is_true(trans):  # a stateless node
-        return
-    var = trans.arg(0) if z3.is_eq(trans) else None
-    if var is None or not z3.is_const(var) or not var.decl().name().endswith(suffix):
-        raise ValueError(f"a transition conjunct is not an equation 'field{suffix} == term': {trans}")
-    yield var, trans.arg(1)
 
 
 def _all(terms) -> z3.BoolRef:

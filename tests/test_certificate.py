@@ -6,7 +6,6 @@ import dataclasses
 import fnmatch
 import hashlib
 import json
-import re
 
 import pytest
 import z3
@@ -110,14 +109,6 @@ class TestScripts:
             assert solver.check() == z3.unsat
             assert all(check[s]["verdict"] == "unsat" for s in SOLVERS)
         assert "certified" in capsys.readouterr().out
-
-    def test_the_states_after_step_0_are_terms_not_variables(self):
-        prop = PROPERTIES["supervision.eb_latched_until_standstill"]
-        state = prop.node.sorts("state")
-        for ob in obligations(prop, 2, PROPERTIES):
-            declared = set(re.findall(r"\(declare-fun \|?([^ |]+)\|? \(\)", ob.script))
-            assert ob.check == "invariant" or {f"{name}@0" for name in state} <= declared, ob.check
-            assert not {f"{name}@{j}" for name in state for j in (1, 2, 3)} & declared, ob.check
 
     def test_a_lemma_without_a_certificate_leaves_the_property_unconfirmed(self):
         results = {"position.rear_in_interval": certify_one("position.rear_in_interval", 0, 60)}
