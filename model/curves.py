@@ -23,6 +23,7 @@ A curve that never constrains speed ``v`` (the target is at or above it) is at
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Generic
 
@@ -233,6 +234,12 @@ CURVES = Node(
 """The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
 and the query speed and acceleration symbolic; train and national data as each property fixes them."""
 
+STEPPED_CURVES = dataclasses.replace(
+    CURVES, name="curves_stepped", sizes={**CURVES.sizes, "emergency_speeds_mps": 3, "emergency_decelerations_mps2": 3})
+""":data:`CURVES` (the same step) for a train whose emergency brake has three speed steps: the walk's cells over
+speed, which the presets' one-step brakes never enter, are proved about too (properties only: the vectors of
+``curves`` run the same function)."""
+
 
 # --- dV as a sub-function node: the speed-dependent ceiling offset on its own ---------------------------------
 
@@ -317,3 +324,44 @@ ADHESION = Node(
     seed="000 §2.4.1 (Subset-026 3.13.6.2)",
 )
 """:func:`adhesion_factor` as a sub-function of its own."""
+
+
+# --- the gradient's share of the safe deceleration as a sub-function node ---------------------------------------
+
+
+@dataclass(frozen=True)
+class GradientAccelerationParams(Generic[N, B]):
+    rotating_mass_uphill_percent: N
+    """M_rotating the train data gives for an uphill gradient (train data)."""
+    rotating_mass_downhill_percent: N
+    """M_rotating for a downhill gradient."""
+
+
+@dataclass(frozen=True)
+class GradientAccelerationQuery(Generic[N, B]):
+    gradient_permille: N
+    """A compensated gradient, positive uphill."""
+
+
+@dataclass(frozen=True)
+class GradientAccelerationOutputs(Generic[N, B]):
+    a_gradient_mps2: N
+    """A_gradient, the gradient's share of A_safe (positive uphill: it helps braking)."""
+
+
+def gradient_acceleration_step(o: Ops, p: GradientAccelerationParams, s: Stateless, i: GradientAccelerationQuery):
+    return s, GradientAccelerationOutputs(gradient_acceleration_mps2(o, p, i.gradient_permille))
+
+
+GRADIENT_ACCELERATION = Node(
+    name="gradient_acceleration",
+    params=GradientAccelerationParams,
+    state=Stateless,
+    inputs=GradientAccelerationQuery,
+    outputs=GradientAccelerationOutputs,
+    init=always,
+    step=gradient_acceleration_step,
+    seed="000 §2.3 (equation 2), Subset-026 3.13.4.3",
+)
+""":func:`gradient_acceleration_mps2` as a sub-function of its own, the gradient and both rotating masses
+symbolic (the curve proofs fix them to the presets' data and the design gradients)."""

@@ -5,7 +5,10 @@ speed and acceleration, the front, the true speed and the breakpoints of a
 2-segment compensated gradient profile symbolic; train and national data fixed
 to the seed presets (``fixed_params``), one property per preset, and the gradient
 values fixed to a design case, 40 per mille downhill then 40 uphill
-(:data:`DESIGN_GRADIENTS_PERMILLE`). With symbolic gradient values the walk
+(:data:`DESIGN_GRADIENTS_PERMILLE`). A third preset, ``stepped``, is the seed 000
+train with a three-step emergency brake (:data:`STEPPED_EMERGENCY_BRAKE`, over the
+node :data:`~atcs.model.curves.STEPPED_CURVES`), so the walk's cells over speed are
+proved about too. With symbolic gradient values the walk
 divides by a symbolic deceleration and z3 answers unknown within 120 s.
 """
 
@@ -13,9 +16,17 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from atcs.model.curves import CURVES, curve_gradient, curve_target, ebd_location_m
+from atcs.model.curves import (
+    A_EST2_CAP_MPS2,
+    CURVES,
+    FAR_M,
+    STEPPED_CURVES,
+    curve_gradient,
+    curve_target,
+    ebd_location_m,
+)
 from atcs.model.node import as_dict
-from atcs.model.profile import is_well_formed
+from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
 from atcs.model.train_data import seed000_train, seed002_national, seed002_train, subset026_national
 from atcs.properties.property import Assumption, Property
 
@@ -28,12 +39,23 @@ MAX_LINE_M = 1_000_000
 DESIGN_GRADIENTS_PERMILLE = (-40, 40)
 """The compensated gradient values the curve proofs fix: steepest downhill, then steepest uphill."""
 
+STEPPED_EMERGENCY_BRAKE = {
+    "emergency_speeds_mps": tuple(Fraction(v) / KMH_PER_MPS for v in (0, 50, 90)),
+    "emergency_decelerations_mps2": tuple(Fraction(a) / KMH_PER_MPS for a in (4, Fraction(7, 2), 3)),
+}
+"""A design case of the speed-step braking model (seed 000 §2.3 ``Dec(v)``, Subset-026 3.13.2.2.4): the seed 000
+train's emergency brake at 4.0 km/h/s up to 50 km/h, 3.5 km/h/s up to 90 km/h and 3.0 km/h/s above (the presets
+have one step; three steps give the walk a middle step, with a step on either side)."""
+
 _DESIGN_TRACK = {"gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE)}
 PRESETS = {
     "seed000": {**as_dict(seed000_train()), **as_dict(subset026_national()), **_DESIGN_TRACK},
     "seed002": {**as_dict(seed002_train()), **as_dict(seed002_national()), **_DESIGN_TRACK},
+    "stepped": {**as_dict(seed000_train()), **as_dict(subset026_national()), **_DESIGN_TRACK,
+                **STEPPED_EMERGENCY_BRAKE},
 }
-"""The fixed parameters of each preset's curve proofs."""
+"""The fixed parameters of each preset's curve proofs: the seeds' trains, and the seed 000 train with a
+two-step emergency brake."""
 
 
 def _track_and_target(o, p, s, i):
@@ -96,8 +118,64 @@ def _ebi_protects_ebd(o, p, s, i, out, nxt):
     return o.implies(o.and_(measured, i.front_m <= out.ebi_m), i.front_m + distance <= ebd)
 
 
+def _gradient_acceleration_mps2(o, p, g):
+    """``g * gradient / (1000 + 10 * M_rotating)``, the mass by the gradient's sign, stated from the seed."""
+    mass = o.ite(g > o.const(0), p.rotating_mass_uphill_percent, p.rotating_mass_downhill_percent)
+    return o.const("9.81") * g / (o.const(1000) + o.const(10) * mass)
+
+
+def _ebd_is_braking_curve(o, p, s, i, out, nxt):
+    """Speed step by speed step of the emergency brake (``[V_b, V_b+1)``, the last one unbounded): between the
+    EBD's locations at the step's two ends (clamped to [foot speed, v]), ``hi^2 - lo^2 = 2 * sum over the
+    gradient segments of A_safe times the length of the segment between them``, with ``A_safe = K * A_brake(b)
+    + A_gradient`` stated from the seed: the kinetic energy A_safe takes away, without the walk. The first
+    segment extends behind the profile's start, the last beyond the line's end; a speed at or below the foot
+    speed is reached at the target."""
+    v, foot, target = i.speed_mps, p.target_ebd_foot_mps, p.target_m
+    starts, speeds = p.gradient_starts_m, p.emergency_speeds_mps
+    k = p.kdry_rst * (p.kwet_rst + p.m_nvavadh * (o.const(1) - p.kwet_rst))
+    gradient, aim = curve_gradient(p), curve_target(p)
+
+    def location(speed):
+        return o.ite(speed <= foot, target, ebd_location_m(o, p, p, gradient, aim, speed))
+
+    def work(a_brake, behind, ahead):
+        total = o.const(0)
+        for j, g in enumerate(p.gradient_permille):
+            low = behind if j == 0 else o.max(behind, starts[j])
+            high = ahead if j + 1 == len(starts) else o.min(ahead, starts[j + 1])
+            total = total + (k * a_brake + _gradient_acceleration_mps2(o, p, g)) * o.max(o.const(0), high - low)
+        return total
+
+    energy = []
+    for b, a_brake in enumerate(p.emergency_decelerations_mps2):
+        def clamp(speed, b=b):
+            speed = o.max(speed, speeds[b])
+            return speed if b + 1 == len(speeds) else o.min(speed, speeds[b + 1])
+
+        lo, hi = clamp(foot), clamp(v)
+        energy.append(o.eq(hi * hi - lo * lo, o.const(2) * work(a_brake, location(hi), location(lo))))
+    top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
+    return o.and_(o.implies(v <= foot, o.eq(out.ebd_m, o.const(FAR_M))),
+                  o.implies(o.and_(foot < v, v <= top), o.and_(o.eq(out.ebd_m, location(v)), *energy)))
+
+
+def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
+    """EBI = d_EBD(V_bec) - D_bec with V_bec and D_bec as Subset-026 3.13.9.3.3 states them."""
+    zero, v, v_target = o.const(0), i.speed_mps, p.target_speed_mps
+    t_traction, t_berem = p.t_traction_s, o.max(zero, p.t_be_s - p.t_traction_s)
+    v_d0 = o.ite(p.inhibit_speed_inaccuracy, zero, p.v_ura_mps)
+    v_d1 = o.max(zero, i.a_est_mps2) * t_traction
+    v_d2 = o.min(o.max(zero, i.a_est_mps2), o.const(A_EST2_CAP_MPS2)) * t_berem
+    v_bec = o.max(v + v_d0 + v_d1, v_target) + v_d2
+    d_bec = (o.max(v + v_d0 + v_d1 / o.const(2), v_target) * t_traction
+             + (o.max(v + v_d0 + v_d1, v_target) + v_d2 / o.const(2)) * t_berem)
+    return o.eq(out.ebi_m, ebd_location_m(o, p, p, curve_gradient(p), curve_target(p), v_bec) - d_bec)
+
+
 def _properties(preset: str):
     fixed = PRESETS[preset]
+    node = STEPPED_CURVES if len(fixed["emergency_speeds_mps"]) > 1 else CURVES
     return (
         Property(
             name=f"curves.order_{preset}",
@@ -108,7 +186,7 @@ def _properties(preset: str):
                 "are ordered: indication "
                 "<= permitted <= warning <= SBI <= EBI <= EBD (locations where each reaches that speed)."
             ),
-            node=CURVES,
+            node=node,
             holds=_ordered,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
@@ -124,8 +202,38 @@ def _properties(preset: str):
                 "0.4) during the rest of the brake build-up), is still behind the EBD for its speed when the "
                 "emergency brake becomes effective."
             ),
-            node=CURVES,
+            node=node,
             holds=_ebi_protects_ebd,
+            assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.ebd_is_braking_curve_{preset}",
+            requirement="CRV-08",
+            seed="000 §2.4.1 (Subset-026 3.13.8.3)",
+            text=(
+                f"With the {preset} data and the design gradients: the EBD reaches a speed v above its foot speed "
+                "(up to the highest line speed) where braking at A_safe, stated from the seed, takes v down to the "
+                "foot speed exactly at the target: v^2 - V_foot^2 = 2 * sum of A_safe over the distance to the "
+                "target, segment by segment; at or below the foot speed it never constrains (FAR_M)."
+            ),
+            node=node,
+            holds=_ebd_is_braking_curve,
+            assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.ebi_from_brake_build_up_{preset}",
+            requirement="CRV-10",
+            seed="000 §2.4.2 (Subset-026 3.13.9.3.3)",
+            text=(
+                f"With the {preset} data: the EBI lies D_bec before the EBD's location for V_bec, with V_bec = "
+                "max(v + V_d0 + V_d1, V_target) + V_d2 and D_bec = max(v + V_d0 + V_d1/2, V_target) * T_traction + "
+                "(max(v + V_d0 + V_d1, V_target) + V_d2/2) * T_berem stated from Subset-026 (neither longer nor "
+                "shorter a build-up than stated)."
+            ),
+            node=node,
+            holds=_ebi_from_brake_build_up,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
         ),
@@ -138,7 +246,7 @@ def _properties(preset: str):
                 "permitted speed T_driver before SBI, the indication T_indication before the permitted speed (so "
                 "each curve leaves the driver its stated time, not more and not less)."
             ),
-            node=CURVES,
+            node=node,
             holds=_spaced,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
@@ -146,6 +254,6 @@ def _properties(preset: str):
     )
 
 
-PROPERTIES = (*_properties("seed000"), *_properties("seed002"))
+PROPERTIES = tuple(prop for preset in PRESETS for prop in _properties(preset))
 
 __all__ = ["PROPERTIES"]

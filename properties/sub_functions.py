@@ -1,17 +1,20 @@
 """Properties of the sub-functions tested on their own (seed 001 §3.4: each sub-function model with its own test
-cases): the ceiling offset dV, the adhesion factor K, the leader's stopping point and the tachometer's
-plausibility check.
+cases): the ceiling offset dV, the adhesion factor K, the gradient's share of the safe deceleration, the leader's
+stopping point and the tachometer's plausibility check.
 
 Each node runs the very function the larger nodes call (:data:`~atcs.model.curves.CEILING_OFFSET`,
-:data:`~atcs.model.curves.ADHESION`, :data:`~atcs.model.authority.STOPPING_POINT`,
+:data:`~atcs.model.curves.ADHESION`, :data:`~atcs.model.curves.GRADIENT_ACCELERATION`,
+:data:`~atcs.model.authority.STOPPING_POINT`,
 :data:`~atcs.model.position.TACHO_CHECK`), with all its data
 symbolic, so ``atcs vectors generate`` gives each its own vectors.
 """
 
 from __future__ import annotations
 
+from fractions import Fraction
+
 from atcs.model.authority import STOPPING_POINT
-from atcs.model.curves import ADHESION, CEILING_OFFSET, MIN_SPAN
+from atcs.model.curves import ADHESION, CEILING_OFFSET, GRADIENT_ACCELERATION, MIN_SPAN
 from atcs.model.position import TACHO_CHECK
 from atcs.properties.property import Assumption, Property
 
@@ -36,6 +39,28 @@ def _between_wet_and_dry(o, p, s, i, out, nxt):
     return o.and_(wet <= out.k, out.k <= dry,
                   o.implies(o.eq(p.m_nvavadh, o.const(0)), o.eq(out.k, wet)),
                   o.implies(o.eq(p.m_nvavadh, o.const(1)), o.eq(out.k, dry)))
+
+
+ROTATING_MASSES = Assumption(
+    "rotating_masses",
+    "both rotating masses within [0, 100] % (train data)",
+    lambda o, p, s, i: o.and_(*(o.and_(o.const(0) <= m, m <= o.const(100))
+                                for m in (p.rotating_mass_uphill_percent, p.rotating_mass_downhill_percent))),
+)
+
+
+def _gradient_from_the_seed(o, p, s, i, out, nxt):
+    """A_gradient * (1000 + 10 * M_rotating) = g * gradient, with the uphill mass on a rising gradient and the
+    downhill mass on a falling one (either at 0: the term is 0 then)."""
+    g, a = i.gradient_permille, out.a_gradient_mps2
+    gravity = o.const(Fraction(981, 100))
+
+    def with_mass(mass):
+        return o.eq(a * (o.const(1000) + o.const(10) * mass), gravity * g)
+
+    return o.and_(o.implies(g > o.const(0), with_mass(p.rotating_mass_uphill_percent)),
+                  o.implies(g < o.const(0), with_mass(p.rotating_mass_downhill_percent)),
+                  o.implies(o.eq(g, o.const(0)), o.eq(a, o.const(0))))
 
 
 LEADER_REPORT = Assumption(
@@ -131,6 +156,17 @@ PROPERTIES = (
         node=ADHESION,
         holds=_between_wet_and_dry,
         assumptions=(ADHESION_DATA,),
+    ),
+    Property(
+        name="gradient_acceleration.from_the_seed",
+        requirement="CRV-09",
+        seed="000 §2.3 (equation 2), Subset-026 3.13.4.3",
+        text="A_gradient = g * gradient / (1000 + 10 * M_rotating), g = 9.81 m/s^2, with the train's uphill "
+             "rotating mass on a rising gradient and its downhill one on a falling gradient (stated from the "
+             "seed, not through the model's function); 0 on level track.",
+        node=GRADIENT_ACCELERATION,
+        holds=_gradient_from_the_seed,
+        assumptions=(ROTATING_MASSES,),
     ),
     Property(
         name="stopping_point.ahead_of_rear",

@@ -31,6 +31,7 @@ from atcs.proofs.engine import prove
 from atcs.proofs.mutants import patched
 from atcs.proofs.trace import replay, reproduce
 from atcs.properties import PROPERTIES, select
+from atcs.properties.curves import PRESETS as CURVE_PRESETS
 
 TRAIN, NATIONAL = seed000_train(), subset026_national()
 
@@ -114,11 +115,22 @@ MUTANTS = {
         # the speed-measurement error ignored
         (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
+    "ebd_is_braking_curve": [
+        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+18)
+        (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
+        # the rotating masses swapped (cmp_flip at gradient_acceleration_mps2:+3)
+        (curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)"),
+    ],
+    "ebi_from_brake_build_up": [
+        # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows
+        (curves.bec_speed_and_distance, "o.max(zero, t.t_be_s - t.t_traction_s)", "o.max(zero, t.t_be_s)"),
+    ],
 }
 
 
 def _kind(prop):
-    return prop.name.removeprefix("curves.").rsplit("_seed", 1)[0]
+    return next(prop.name.removeprefix("curves.").removesuffix(f"_{preset}") for preset in CURVE_PRESETS
+                if prop.name.endswith(f"_{preset}"))
 
 
 def test_every_curve_property_has_a_mutant():
@@ -140,6 +152,21 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
     prop = PROPERTIES[name]
     function, old, new = mutant
     with patched(function, old, new):
+        result = prove(prop, timeout_s=120)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    assert replay(prop, result.trace).first_violation is None
+
+
+def test_speed_steps_walked_in_order_on_the_stepped_brake():
+    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop at braking_walk:+19): the
+    one-step presets never leave the last step, the three-step design case does (CRV-08)."""
+    prop = PROPERTIES["curves.ebd_is_braking_curve_stepped"]
+    old, new = "o.min(speeds[step + 1] * speeds[step + 1]", "o.min(speeds[1] * speeds[step + 1]"
+    for name in ("curves.ebd_is_braking_curve_seed000", "curves.ebd_is_braking_curve_seed002"):
+        with patched(curves.braking_walk, old, new):
+            assert prove(PROPERTIES[name], timeout_s=120).status == "proved"
+    with patched(curves.braking_walk, old, new):
         result = prove(prop, timeout_s=120)
         assert result.status == "falsified", result.message
         assert reproduce(prop, result.trace).first_violation == result.k

@@ -33,6 +33,10 @@ MUTANTS = {
     "adhesion.between_wet_and_dry": (
         curves.adhesion_factor, "n.m_nvavadh * (o.const(1) - t.kwet_rst)", "n.m_nvavadh * (o.const(1) + t.kwet_rst)",
     ),
+    # the rotating mass of the other sign (atcs mutate's cmp_flip at gradient_acceleration_mps2:+3)
+    "gradient_acceleration.from_the_seed": (
+        curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)",
+    ),
     # the braking distance subtracted: a stopping point behind the rear
     "stopping_point.ahead_of_rear": (
         authority.stopping_point_m, "return rear_m + speed_mps * speed_mps", "return rear_m - speed_mps * speed_mps",
