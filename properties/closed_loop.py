@@ -193,7 +193,7 @@ def brake_cycle_cases(n_be: int):
 
 
 def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
-    """The four closed-loop properties for one set of fixed data (:func:`preset_data`), named ``*_<preset>``."""
+    """The closed-loop properties for one set of fixed data (:func:`preset_data`), named ``*_<preset>``."""
     n_t, n_be = whole_cycles(preset, fixed)
 
     common = dict(node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed, cases=brake_cycle_cases(n_be))
@@ -249,7 +249,42 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 i.measured_front_m + p.position_error_m > out.ebi_m, out.emergency_brake),
             **common,
         ),
+        Property(
+            name=f"closed_loop.no_spurious_eb_{preset}",
+            requirement="CL-04",
+            seed="000 §2.4.3, 001 §3.2",
+            text=(
+                f"{preset}: with a valid position (the closed loop's measurement assumption), EB is commanded only "
+                "when the max safe front is beyond the EBI for the measured speed, the measured speed is above "
+                "MRSP + dV_ebi, or EB is latched and not released at standstill."
+            ),
+            holds=_no_spurious_eb,
+            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+        ),
+        Property(
+            name=f"closed_loop.state_follows_plant_and_atp_{preset}",
+            requirement="CL-05",
+            seed="000 §2.5; DESIGN.md closed loop",
+            text=(
+                f"{preset}: each cycle the true front advances by the distance run and the true speed becomes "
+                "the cycle's end speed, the brake counter counts the cycles of EB command up to the build-up "
+                "(0 without it), and the latches record this cycle's EB and SB commands."
+            ),
+            holds=lambda o, p, s, i, out, nxt: o.and_(
+                o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
+                o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, o.min(s.brake_cycles + o.const(1), o.const(n_be)),
+                                             o.const(0))),
+                o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake)),
+            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+        ),
     )
+
+
+def _no_spurious_eb(o, p, s, i, out, nxt):
+    released = o.and_(i.standstill, i.eb_release)
+    return o.implies(out.emergency_brake, o.or_(
+        i.measured_front_m + p.position_error_m > out.ebi_m, i.measured_speed_mps > ebi_ceiling_mps(o, p),
+        o.and_(s.eb_latched, o.not_(released))))
 
 
 PROPERTIES = tuple(p for name, fixed in PRESETS.items() for p in closed_loop_properties(name, fixed))

@@ -15,12 +15,12 @@ import pytest
 from hypothesis import Phase, given, settings
 from hypothesis import strategies as st
 
-from atcs.model import closed_loop, curves, dynamic_profile
+from atcs.model import closed_loop, curves, dynamic_profile, plant
 from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopInputs, ClosedLoopParams, ClosedLoopState
 from atcs.model.ops.exact import EXACT
 from atcs.model.train_data import seed000_train, subset026_national
 from atcs.proofs.engine import prove
-from atcs.proofs.mutants import patched
+from atcs.proofs.mutants import falsify, patched
 from atcs.proofs.trace import replay, reproduce
 from atcs.properties import select
 from atcs.properties.closed_loop import PRESETS, closed_loop_properties, preset_data
@@ -66,6 +66,14 @@ MUTANTS = {
         # EB at the EBD instead of the EBI
         (dynamic_profile.exceedances, "front_m > curve.ebi_m", "front_m > curve.ebd_m"),
     ],
+    "no_spurious_eb": [
+        # the position taken as invalid: EB in every cycle (atcs mutate's const_bool at atp_cycle:+11)
+        (closed_loop.atp_cycle, "o.const_bool(True)", "o.const_bool(False)"),
+    ],
+    "state_follows_plant_and_atp": [
+        # the train never moves (delay_hold of the front)
+        (plant.plant_next, "front_m=s.front_m + distance_m", "front_m=s.front_m"),
+    ],
 }
 
 
@@ -108,6 +116,16 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
         assert reproduce(prop, result.trace).first_violation == result.k
     real = replay(prop, result.trace)
     assert real.problems or real.first_violation is None, "the real model must not fail on the mutant's run"
+
+
+@pytest.mark.parametrize(("old", "new"), [("eb_latched=atp.eb_latched", "eb_latched=s.eb_latched"),
+                                          ("sb_latched=atp.sb_latched", "sb_latched=s.sb_latched")])
+def test_latches_held_over_are_falsified(old, new):
+    """The closed loop's own step keeping last cycle's latch (atcs mutate's delay_hold at closed_loop_step:+6):
+    CL-05 falsified, its counterexample replays on the mutant and not on the model."""
+    run = falsify(COARSE["closed_loop.state_follows_plant_and_atp_coarse"], closed_loop.closed_loop_step, old, new,
+                  max_k=2)
+    assert run.killed, run
 
 
 # --- simulation: the same step function and predicates on concrete numbers ------------------------
