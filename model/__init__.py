@@ -6,7 +6,7 @@ under every backend.
 
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
 from atcs.model.closed_loop import CLOSED_LOOP
-from atcs.model.curves import ADHESION, CEILING_OFFSET, CURVES, GRADIENT_ACCELERATION
+from atcs.model.curves import ADHESION, CEILING_OFFSET, CURVES, GRADIENT_ACCELERATION, STEPPED_CURVES
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.mrsp import MRSP
@@ -23,6 +23,6 @@ NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, M
                                                          CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
                                                          AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP,
                                                          CEILING_OFFSET, STOPPING_POINT, TACHO_CHECK, ADHESION,
-                                                         GRADIENT_ACCELERATION)}
+                                                         GRADIENT_ACCELERATION, STEPPED_CURVES)}
 
 __all__ = ["NODES", "Node"]

@@ -237,8 +237,7 @@ and the query speed and acceleration symbolic; train and national data as each p
 STEPPED_CURVES = dataclasses.replace(
     CURVES, name="curves_stepped", sizes={**CURVES.sizes, "emergency_speeds_mps": 3, "emergency_decelerations_mps2": 3})
 """:data:`CURVES` (the same step) for a train whose emergency brake has three speed steps: the walk's cells over
-speed, which the presets' one-step brakes never enter, are proved about too (properties only: the vectors of
-``curves`` run the same function)."""
+speed, which the presets' one-step brakes never enter, are proved about too."""
 
 
 # --- dV as a sub-function node: the speed-dependent ceiling offset on its own ---------------------------------
