@@ -24,6 +24,7 @@ from atcs.model.curves import (
     A_EST2_CAP_MPS2,
     Target,
     adhesion_factor,
+    curve_locations,
     ebd_location_m,
     ebd_speed2_at,
 )
@@ -262,6 +263,18 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
             node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
         ),
         Property(
+            name=f"closed_loop.ebi_of_the_eoa_{preset}",
+            requirement="CL-06",
+            seed="000 §2.4.2, Subset-026 3.13.9.3.3",
+            text=(
+                f"{preset}: the EBI the ATP supervises is the end of authority's, a target of speed 0, at the "
+                "measured speed, with the plant's worst acceleration (A_max plus the steepest downhill's, from the "
+                "plant's own gradient physics) as the estimated acceleration."
+            ),
+            holds=_ebi_of_the_eoa,
+            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+        ),
+        Property(
             name=f"closed_loop.state_follows_plant_and_atp_{preset}",
             requirement="CL-05",
             seed="000 §2.5; DESIGN.md closed loop",
@@ -278,6 +291,16 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
             node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
         ),
     )
+
+
+def _ebi_of_the_eoa(o, p, s, i, out, nxt):
+    """The EBI supervised is the end of authority's (speed 0 there, EBD foot 0) at the measured speed, with the
+    plant's worst acceleration (A_max plus the steepest downhill's, from the plant's own gradient physics) as
+    the estimated acceleration."""
+    zero = o.const(0)
+    a_est = p.max_acceleration_mps2 + max_gradient_acceleration_mps2(o, p)
+    curve = curve_locations(o, p, p, plant_gradient(p), Target(p.eoa_m, zero, zero), i.measured_speed_mps, a_est)
+    return o.eq(out.ebi_m, curve.ebi_m)
 
 
 def _no_spurious_eb(o, p, s, i, out, nxt):

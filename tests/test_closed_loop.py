@@ -70,6 +70,11 @@ MUTANTS = {
         # the position taken as invalid: EB in every cycle (atcs mutate's const_bool at atp_cycle:+11)
         (closed_loop.atp_cycle, "o.const_bool(True)", "o.const_bool(False)"),
     ],
+    "ebi_of_the_eoa": [
+        # A_est with the steepest uphill's help instead of the downhill's (arith_sign at worst_acceleration_mps2:+4)
+        (closed_loop.worst_acceleration_mps2, "downhill = (-gradient_acceleration_mps2(o, p, g)",
+         "downhill = (gradient_acceleration_mps2(o, p, g)"),
+    ],
     "state_follows_plant_and_atp": [
         # the train never moves (delay_hold of the front)
         (plant.plant_next, "front_m=s.front_m + distance_m", "front_m=s.front_m"),
