@@ -24,6 +24,7 @@ from atcs.model.curves import (
     A_EST2_CAP_MPS2,
     Target,
     adhesion_factor,
+    ceiling_offset_mps,
     curve_locations,
     ebd_location_m,
     ebd_speed2_at,
@@ -263,15 +264,18 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
             node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
         ),
         Property(
-            name=f"closed_loop.ebi_of_the_eoa_{preset}",
+            name=f"closed_loop.supervises_eoa_and_ceilings_{preset}",
             requirement="CL-06",
-            seed="000 §2.4.2, Subset-026 3.13.9.3.3",
+            seed="000 §2.4.2-2.4.3, Subset-026 3.13.9.3, 3.13.10",
             text=(
-                f"{preset}: the EBI the ATP supervises is the end of authority's, a target of speed 0, at the "
-                "measured speed, with the plant's worst acceleration (A_max plus the steepest downhill's, from the "
-                "plant's own gradient physics) as the estimated acceleration."
+                f"{preset}: the commands are the seed's supervision of the end of authority (a target of speed 0) "
+                "and of the MRSP's ceilings: with the max safe front and the measured speed, the curves of the EoA "
+                "with the plant's worst acceleration as A_est and each ceiling MRSP + its dV, EB over the EBI or "
+                "latched and not released at standstill, SB over the SBI or latched and over the permitted speed, "
+                "the warning over the warning limit, traction cut with either brake, and the EBI reported is the "
+                "EoA's."
             ),
-            holds=_ebi_of_the_eoa,
+            holds=_supervises_eoa_and_ceilings,
             node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
         ),
         Property(
@@ -293,14 +297,32 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
     )
 
 
-def _ebi_of_the_eoa(o, p, s, i, out, nxt):
-    """The EBI supervised is the end of authority's (speed 0 there, EBD foot 0) at the measured speed, with the
-    plant's worst acceleration (A_max plus the steepest downhill's, from the plant's own gradient physics) as
-    the estimated acceleration."""
-    zero = o.const(0)
+def _supervises_eoa_and_ceilings(o, p, s, i, out, nxt):
+    """The commands are the seed's supervision of the end of authority (a target of speed 0, EBD foot 0) and of
+    the MRSP's ceilings: the curves at the measured speed with the plant's worst acceleration (A_max plus the
+    steepest downhill's, from the plant's own gradient physics) as A_est, each ceiling MRSP + its dV
+    (:func:`ceiling_offset_mps`, CRV-03..05), a limit exceeded when the max safe front is beyond its curve or
+    the measured speed above its ceiling; EB over the EBI or latched and not released at standstill, SB (the
+    presets have a service brake) over the SBI or latched and over the permitted speed, the warning over the
+    warning limit."""
+    zero, mrsp, speed = o.const(0), p.mrsp_mps, i.measured_speed_mps
+    front = i.measured_front_m + p.position_error_m
     a_est = p.max_acceleration_mps2 + max_gradient_acceleration_mps2(o, p)
-    curve = curve_locations(o, p, p, plant_gradient(p), Target(p.eoa_m, zero, zero), i.measured_speed_mps, a_est)
-    return o.eq(out.ebi_m, curve.ebi_m)
+    curve = curve_locations(o, p, p, plant_gradient(p), Target(p.eoa_m, zero, zero), speed, a_est)
+
+    def over(location_m, dv_min, dv_max, v_min, v_max):
+        ceiling = mrsp if dv_min is None else mrsp + ceiling_offset_mps(o, mrsp, dv_min, dv_max, v_min, v_max)
+        return o.or_(front > location_m, speed > ceiling)
+
+    over_ebi = over(curve.ebi_m, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)
+    over_sbi = over(curve.sbi_m, p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)
+    over_warning = over(curve.warning_m, p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps,
+                        p.v_warning_max_mps)
+    over_permitted = over(curve.permitted_m, None, None, None, None)
+    eb = o.or_(over_ebi, o.and_(s.eb_latched, o.not_(o.and_(i.standstill, i.eb_release))))
+    sb = o.or_(over_sbi, o.and_(s.sb_latched, over_permitted))
+    return o.and_(o.eq(out.ebi_m, curve.ebi_m), o.eq(out.emergency_brake, eb), o.eq(out.service_brake, sb),
+                  o.eq(out.warning, over_warning), o.eq(out.traction_cut, o.or_(eb, sb)))
 
 
 def _no_spurious_eb(o, p, s, i, out, nxt):

@@ -70,10 +70,12 @@ MUTANTS = {
         # the position taken as invalid: EB in every cycle (atcs mutate's const_bool at atp_cycle:+11)
         (closed_loop.atp_cycle, "o.const_bool(True)", "o.const_bool(False)"),
     ],
-    "ebi_of_the_eoa": [
+    "supervises_eoa_and_ceilings": [
         # A_est with the steepest uphill's help instead of the downhill's (arith_sign at worst_acceleration_mps2:+4)
         (closed_loop.worst_acceleration_mps2, "downhill = (-gradient_acceleration_mps2(o, p, g)",
          "downhill = (gradient_acceleration_mps2(o, p, g)"),
+        # the EB ceiling without the MRSP: dV alone (arith_drop at ceilings:+5)
+        (dynamic_profile.ceilings, "return mrsp_mps + ceiling_offset_mps(", "return ceiling_offset_mps("),
     ],
     "state_follows_plant_and_atp": [
         # the train never moves (delay_hold of the front)
