@@ -26,6 +26,7 @@ from typing import Generic
 import numpy as np
 
 from atcs.model.curves import FAR_M, CurveLocations, Target, ceiling_offset_mps, curve_locations
+from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import N, Ops
 from atcs.model.ops.floating import FLOAT
 from atcs.model.profile import Profile, value_at
@@ -228,3 +229,49 @@ def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: floa
         speeds[name] = np.minimum(speeds[name], cap)
     return SampledCurves(positions, mrsp, speeds)
 
+
+
+# --- the choice of the most restrictive target as a sub-function node -------------------------------------------
+
+
+@dataclass(frozen=True)
+class MostRestrictiveParams(Generic[N]):
+    pass
+
+
+@dataclass(frozen=True)
+class TargetCurves(Generic[N]):
+    """Each curve's location, one per supervised target (the same speed)."""
+
+    target_ebd_m: tuple[N, ...]
+    target_ebi_m: tuple[N, ...]
+    target_sbi_m: tuple[N, ...]
+    target_warning_m: tuple[N, ...]
+    target_permitted_m: tuple[N, ...]
+    target_indication_m: tuple[N, ...]
+
+
+@dataclass(frozen=True)
+class SupervisedCurves(CurveLocations[N]):
+    pass
+
+
+def most_restrictive_step(o: Ops, p: MostRestrictiveParams, s: Stateless, i: TargetCurves):
+    per_target = tuple(CurveLocations(**{f.name: getattr(i, f"target_{f.name}")[j] for f in fields(CurveLocations)})
+                       for j in range(len(i.target_ebd_m)))
+    return s, SupervisedCurves(**vars(most_restrictive(o, per_target)))
+
+
+MOST_RESTRICTIVE = Node(
+    name="most_restrictive",
+    params=MostRestrictiveParams,
+    state=Stateless,
+    inputs=TargetCurves,
+    outputs=SupervisedCurves,
+    init=always,
+    step=most_restrictive_step,
+    seed="000 §2.4, 003 §2.2",
+    sizes={f"target_{f.name}": 3 for f in fields(CurveLocations)},
+)
+""":func:`most_restrictive` as a sub-function of its own, for three targets, every location symbolic (the
+closed-loop and two-train nodes supervise one target, the end of authority)."""

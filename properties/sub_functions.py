@@ -1,9 +1,10 @@
 """Properties of the sub-functions tested on their own (seed 001 §3.4: each sub-function model with its own test
-cases): the ceiling offset dV, the adhesion factor K, the gradient's share of the safe deceleration, the leader's
-stopping point and the tachometer's plausibility check.
+cases): the ceiling offset dV, the adhesion factor K, the gradient's share of the safe deceleration, the choice of
+the most restrictive target, the leader's stopping point and the tachometer's plausibility check.
 
 Each node runs the very function the larger nodes call (:data:`~atcs.model.curves.CEILING_OFFSET`,
 :data:`~atcs.model.curves.ADHESION`, :data:`~atcs.model.curves.GRADIENT_ACCELERATION`,
+:data:`~atcs.model.dynamic_profile.MOST_RESTRICTIVE`,
 :data:`~atcs.model.authority.STOPPING_POINT`,
 :data:`~atcs.model.position.TACHO_CHECK`), with all its data
 symbolic, so ``atcs vectors generate`` gives each its own vectors.
@@ -11,10 +12,12 @@ symbolic, so ``atcs vectors generate`` gives each its own vectors.
 
 from __future__ import annotations
 
+from dataclasses import fields
 from fractions import Fraction
 
 from atcs.model.authority import STOPPING_POINT
-from atcs.model.curves import ADHESION, CEILING_OFFSET, GRADIENT_ACCELERATION, MIN_SPAN
+from atcs.model.curves import ADHESION, CEILING_OFFSET, GRADIENT_ACCELERATION, MIN_SPAN, CurveLocations
+from atcs.model.dynamic_profile import MOST_RESTRICTIVE
 from atcs.model.position import TACHO_CHECK
 from atcs.properties.property import Assumption, Property
 
@@ -61,6 +64,15 @@ def _gradient_from_the_seed(o, p, s, i, out, nxt):
     return o.and_(o.implies(g > o.const(0), with_mass(p.rotating_mass_uphill_percent)),
                   o.implies(g < o.const(0), with_mass(p.rotating_mass_downhill_percent)),
                   o.implies(o.eq(g, o.const(0)), o.eq(a, o.const(0))))
+
+
+def _nearest_target(o, p, s, i, out, nxt):
+    """For each curve: at or behind every target's location, and one of them."""
+    def nearest(name):
+        locations, chosen = getattr(i, f"target_{name}"), getattr(out, name)
+        return o.and_(*(chosen <= x for x in locations), o.or_(*(o.eq(chosen, x) for x in locations)))
+
+    return o.and_(*(nearest(f.name) for f in fields(CurveLocations)))
 
 
 LEADER_REPORT = Assumption(
@@ -167,6 +179,15 @@ PROPERTIES = (
         node=GRADIENT_ACCELERATION,
         holds=_gradient_from_the_seed,
         assumptions=(ROTATING_MASSES,),
+    ),
+    Property(
+        name="most_restrictive.nearest_target",
+        requirement="DYN-01",
+        seed="000 §2.4, 003 §2.2",
+        text="With several targets, each curve is supervised at the nearest of the targets' locations for it: at "
+             "or behind every target's, and one of them.",
+        node=MOST_RESTRICTIVE,
+        holds=_nearest_target,
     ),
     Property(
         name="stopping_point.ahead_of_rear",

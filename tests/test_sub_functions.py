@@ -5,7 +5,7 @@ from fractions import Fraction
 
 import pytest
 
-from atcs.model import authority, curves, position
+from atcs.model import authority, curves, dynamic_profile, position
 from atcs.model.curves import CEILING_OFFSET, CeilingOffsetParams, CeilingOffsetQuery, ceiling_offset_mps
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
@@ -37,6 +37,8 @@ MUTANTS = {
     "gradient_acceleration.from_the_seed": (
         curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)",
     ),
+    # the farthest target's curve supervised (atcs mutate's minmax at most_restrictive:+4)
+    "most_restrictive.nearest_target": (dynamic_profile.most_restrictive, "o.min(", "o.max("),
     # the braking distance subtracted: a stopping point behind the rear
     "stopping_point.ahead_of_rear": (
         authority.stopping_point_m, "return rear_m + speed_mps * speed_mps", "return rear_m - speed_mps * speed_mps",
