@@ -25,6 +25,9 @@ rear (assumptions *fleet* and *margin*).
 
 from __future__ import annotations
 
+from dataclasses import fields
+
+from atcs.model.authority import AuthorityInputs, authority_step
 from atcs.model.curves import MIN_SPAN
 from atcs.model.plant import gradient_braking_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
@@ -140,6 +143,16 @@ MARGIN = Assumption(
     lambda o, p, s, i: p.safety_margin_m >= one_cycle_closing_m(o, p),
 )
 
+def _authority_on_safe_position(o, p, s, i, out, nxt):
+    """The end of authority is the authority node's for the follower's max safe front (measured front + odometry
+    bound) and min safe rear (measured front - bound - train length), the other inputs as delivered."""
+    position = {"front_max_m": i.measured_front_m + p.position_error_m,
+                "rear_min_m": i.measured_front_m - p.position_error_m - p.train_length_m}
+    inputs = AuthorityInputs(**{f.name: position[f.name] if f.name in position else getattr(i, f.name)
+                                for f in fields(AuthorityInputs)})
+    return o.eq(out.eoa_m, authority_step(o, p, s, inputs)[1].eoa_m)
+
+
 FOLLOWER = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT)
 """What relative braking's invariant (SEP-01) assumes: the follower's own closed loop, nothing of the leader."""
 BRICK_WALL = (*FOLLOWER, LEADER, REPORT_REAR)
@@ -161,6 +174,13 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     earliest = f"separation.leader_stop_is_earliest_{preset}"
     never_recedes = f"separation.leader_stop_never_recedes_{preset}"
     name = {"bw": "brick-wall", "rbd": "relative braking"}[mode]
+    authority = Property(
+        name=f"separation.authority_on_safe_position_{mode}_{preset}", requirement="SEP-05",
+        seed="001 §3.2 (Fig. 5), 000 §2.2",
+        text=(f"{preset}, {name}: the follower's end of authority is its authority node's for its max safe front "
+              "(measured front plus the odometry bound) and min safe rear (less the bound and the train length)."),
+        holds=_authority_on_safe_position, assumptions=assumptions, **common,
+    )
     reports_behind = Property(
         name=reports, requirement="SEP-00", seed="001 §3.2",
         text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
@@ -172,6 +192,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     )
     if mode == "bw":
         return (
+            authority,
             reports_behind,
             Property(
                 name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
@@ -207,6 +228,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             holds=lambda o, p, s, i, out, nxt: nxt.leader_stop_m >= s.leader_stop_m,
             assumptions=assumptions, lemmas=(earliest,), **common,
         ),
+        authority,
         reports_behind,
         Property(
             name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",

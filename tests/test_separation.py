@@ -48,6 +48,9 @@ _LIMIT = "limit = o.ite(certain_only, r.best_rear_m, r.best_stop_m) - p.safety_m
 GUARANTEED = (authority.stopping_point_m, "(o.const(2) * deceleration)",
               "(o.const(2) * p.guaranteed_deceleration_mps2)")
 
+_MEASURED_FRONT = (separation.follower_authority, "front_max = i.measured_front_m + p.position_error_m",
+                   "front_max = i.measured_front_m")
+
 # property kind -> mutants (function, text in it, faulty replacement)
 MUTANTS = {
     # the leader's reported front taken for its rear
@@ -65,6 +68,9 @@ MUTANTS = {
     # no safety margin before the best reported stopping point
     "braking_invariant_rbd": [(authority.leader_limit_m, _LIMIT, _LIMIT.replace(" - p.safety_margin_m", ""))],
     "no_collision_rbd": [GUARANTEED],
+    # the authority computed on the measured front, without the odometry bound (arith_drop at follower_authority:+3)
+    "authority_on_safe_position_bw": [_MEASURED_FRONT],
+    "authority_on_safe_position_rbd": [_MEASURED_FRONT],
     # the leader's physics with half its highest deceleration
     "leader_stop_is_earliest": [(separation.earliest_stop_m, "(o.const(2) * deceleration)", "deceleration")],
     # the ghost stopping point taken from the rear before this cycle's motion
