@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import fields
 
-from atcs.model.authority import AuthorityInputs, authority_step
+from atcs.model.authority import AuthorityInputs, AuthorityState, authority_step
 from atcs.model.curves import MIN_SPAN
 from atcs.model.plant import gradient_braking_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
@@ -150,7 +150,23 @@ def _authority_on_safe_position(o, p, s, i, out, nxt):
                 "rear_min_m": i.measured_front_m - p.position_error_m - p.train_length_m}
     inputs = AuthorityInputs(**{f.name: position[f.name] if f.name in position else getattr(i, f.name)
                                 for f in fields(AuthorityInputs)})
-    return o.eq(out.eoa_m, authority_step(o, p, s, inputs)[1].eoa_m)
+    reports, authority = authority_step(o, p, s, inputs)
+    return o.and_(o.eq(out.eoa_m, authority.eoa_m),
+                  *(o.eq(getattr(nxt, f.name), getattr(reports, f.name)) for f in fields(AuthorityState)))
+
+
+def _state_follows(o, p, s, i, out, nxt):
+    """The follower's plant and latches as in the closed loop (CL-05); the leader moves by its input, and its
+    earliest stopping point is its physics' (:func:`earliest_stop_m`) from its new rear and speed."""
+    leader_rear = s.leader_rear_m + i.leader_distance_m
+    n_be = p.brake_build_up_cycles
+    return o.and_(
+        o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
+        o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, o.min(s.brake_cycles + o.const(1), n_be), o.const(0))),
+        o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake),
+        o.eq(nxt.leader_rear_m, leader_rear), o.eq(nxt.leader_speed_mps, i.leader_next_speed_mps),
+        o.eq(nxt.leader_stop_m, earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)),
+    )
 
 
 FOLLOWER = (SETTING, TIMING, MEASUREMENT, FOLLOWER_PLANT)
@@ -177,9 +193,17 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     authority = Property(
         name=f"separation.authority_on_safe_position_{mode}_{preset}", requirement="SEP-05",
         seed="001 §3.2 (Fig. 5), 000 §2.2",
-        text=(f"{preset}, {name}: the follower's end of authority is its authority node's for its max safe front "
-              "(measured front plus the odometry bound) and min safe rear (less the bound and the train length)."),
+        text=(f"{preset}, {name}: the follower's end of authority and the report bounds it keeps are its authority "
+              "node's for its max safe front (measured front plus the odometry bound) and min safe rear (less the "
+              "bound and the train length)."),
         holds=_authority_on_safe_position, assumptions=assumptions, **common,
+    )
+    state_follows = Property(
+        name=f"separation.state_follows_{mode}_{preset}", requirement="SEP-06", seed="000 §2.5; DESIGN.md closed loop",
+        text=(f"{preset}, {name}: each cycle the follower's front, speed, brake counter and latches follow its plant "
+              "and ATP as in the closed loop (CL-05), the leader's rear advances by its distance run, its speed "
+              "becomes its end speed, and its earliest stopping point is its physics' from those."),
+        holds=_state_follows, assumptions=assumptions, **common,
     )
     reports_behind = Property(
         name=reports, requirement="SEP-00", seed="001 §3.2",
@@ -193,6 +217,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     if mode == "bw":
         return (
             authority,
+            state_follows,
             reports_behind,
             Property(
                 name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
@@ -229,6 +254,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             assumptions=assumptions, lemmas=(earliest,), **common,
         ),
         authority,
+        state_follows,
         reports_behind,
         Property(
             name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",

@@ -51,6 +51,9 @@ GUARANTEED = (authority.stopping_point_m, "(o.const(2) * deceleration)",
 _MEASURED_FRONT = (separation.follower_authority, "front_max = i.measured_front_m + p.position_error_m",
                    "front_max = i.measured_front_m")
 
+_LEADER_HELD = (separation.two_train_step, "leader_rear = s.leader_rear_m + i.leader_distance_m",
+                "leader_rear = s.leader_rear_m")
+
 # property kind -> mutants (function, text in it, faulty replacement)
 MUTANTS = {
     # the leader's reported front taken for its rear
@@ -71,6 +74,9 @@ MUTANTS = {
     # the authority computed on the measured front, without the odometry bound (arith_drop at follower_authority:+3)
     "authority_on_safe_position_bw": [_MEASURED_FRONT],
     "authority_on_safe_position_rbd": [_MEASURED_FRONT],
+    # the leader never moves (arith_drop at two_train_step:+5)
+    "state_follows_bw": [_LEADER_HELD],
+    "state_follows_rbd": [_LEADER_HELD],
     # the leader's physics with half its highest deceleration
     "leader_stop_is_earliest": [(separation.earliest_stop_m, "(o.const(2) * deceleration)", "deceleration")],
     # the ghost stopping point taken from the rear before this cycle's motion
