@@ -9,7 +9,7 @@ from atcs.model.closed_loop import CLOSED_LOOP
 from atcs.model.curves import ADHESION, CEILING_OFFSET, CURVES, GRADIENT_ACCELERATION, STEPPED_CURVES
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
-from atcs.model.dynamic_profile import MOST_RESTRICTIVE
+from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT
@@ -24,6 +24,7 @@ NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, M
                                                          CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
                                                          AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP,
                                                          CEILING_OFFSET, STOPPING_POINT, TACHO_CHECK, ADHESION,
-                                                         GRADIENT_ACCELERATION, STEPPED_CURVES, MOST_RESTRICTIVE)}
+                                                         GRADIENT_ACCELERATION, STEPPED_CURVES, MOST_RESTRICTIVE,
+                                                         EXCEEDANCES)}
 
 __all__ = ["NODES", "Node"]

@@ -27,7 +27,7 @@ import numpy as np
 
 from atcs.model.curves import FAR_M, CurveLocations, Target, ceiling_offset_mps, curve_locations
 from atcs.model.node import Node, Stateless, always
-from atcs.model.ops import N, Ops
+from atcs.model.ops import B, N, Ops
 from atcs.model.ops.floating import FLOAT
 from atcs.model.profile import Profile, value_at
 from atcs.model.supervision import Exceedances
@@ -235,8 +235,8 @@ def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: floa
 
 
 @dataclass(frozen=True)
-class MostRestrictiveParams(Generic[N]):
-    pass
+class NoData(Generic[N]):
+    """No data: the sub-functions below are pure functions of their inputs."""
 
 
 @dataclass(frozen=True)
@@ -256,7 +256,7 @@ class SupervisedCurves(CurveLocations[N]):
     pass
 
 
-def most_restrictive_step(o: Ops, p: MostRestrictiveParams, s: Stateless, i: TargetCurves):
+def most_restrictive_step(o: Ops, p: NoData, s: Stateless, i: TargetCurves):
     per_target = tuple(CurveLocations(**{f.name: getattr(i, f"target_{f.name}")[j] for f in fields(CurveLocations)})
                        for j in range(len(i.target_ebd_m)))
     return s, SupervisedCurves(**vars(most_restrictive(o, per_target)))
@@ -264,7 +264,7 @@ def most_restrictive_step(o: Ops, p: MostRestrictiveParams, s: Stateless, i: Tar
 
 MOST_RESTRICTIVE = Node(
     name="most_restrictive",
-    params=MostRestrictiveParams,
+    params=NoData,
     state=Stateless,
     inputs=TargetCurves,
     outputs=SupervisedCurves,
@@ -275,3 +275,50 @@ MOST_RESTRICTIVE = Node(
 )
 """:func:`most_restrictive` as a sub-function of its own, for three targets, every location symbolic (the
 closed-loop and two-train nodes supervise one target, the end of authority)."""
+
+
+# --- the limits exceeded as a sub-function node ------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LimitQuery(Generic[N]):
+    """The max safe front, the measured speed, each curve's location at that speed and each ceiling."""
+
+    max_safe_front_m: N
+    measured_speed_mps: N
+    permitted_location_m: N
+    warning_location_m: N
+    sbi_location_m: N
+    ebi_location_m: N
+    permitted_ceiling_mps: N
+    warning_ceiling_mps: N
+    sbi_ceiling_mps: N
+    ebi_ceiling_mps: N
+
+
+@dataclass(frozen=True)
+class LimitsExceeded(Exceedances[N, B]):
+    pass
+
+
+def exceedances_step(o: Ops, p: NoData, s: Stateless, i: LimitQuery):
+    unread = o.const(FAR_M)  # the EBD and the indication curve are not supervised limits: exceedances never reads them
+    curve = CurveLocations(ebd_m=unread, ebi_m=i.ebi_location_m, sbi_m=i.sbi_location_m,
+                           warning_m=i.warning_location_m, permitted_m=i.permitted_location_m, indication_m=unread)
+    ceiling = Ceilings(permitted_mps=i.permitted_ceiling_mps, warning_mps=i.warning_ceiling_mps,
+                       sbi_mps=i.sbi_ceiling_mps, ebi_mps=i.ebi_ceiling_mps)
+    return s, LimitsExceeded(**vars(exceedances(o, curve, ceiling, i.max_safe_front_m, i.measured_speed_mps)))
+
+
+EXCEEDANCES = Node(
+    name="exceedances",
+    params=NoData,
+    state=Stateless,
+    inputs=LimitQuery,
+    outputs=LimitsExceeded,
+    init=always,
+    step=exceedances_step,
+    seed="000 §2.4.3",
+)
+""":func:`exceedances` as a sub-function of its own, every location, ceiling, front and speed symbolic (in the closed
+loop a speed at exactly a ceiling is reached only tens of cycles after power-up)."""

@@ -36,10 +36,10 @@ from atcs.properties.property import Property
 VERDICTS = ("killed", "survived", "timeout", "incompetent", "equivalent")
 COUNTED = ("killed", "survived", "timeout")
 """The verdicts the kill rate's denominator counts."""
-NODE_ORDER = ("ceiling_offset", "adhesion", "gradient_acceleration", "most_restrictive", "stopping_point",
-              "tacho_check", "supervision", "door_enable", "dcu", "door_loop", "resources", "authority",
-              "deceleration", "mrsp", "psl", "position_loop", "curves", "curves_stepped", "mrsp_update",
-              "closed_loop", "separation")
+NODE_ORDER = ("ceiling_offset", "adhesion", "gradient_acceleration", "most_restrictive", "exceedances",
+              "stopping_point", "tacho_check", "supervision", "door_enable", "dcu", "door_loop", "resources",
+              "authority", "deceleration", "mrsp", "psl", "position_loop", "curves", "curves_stepped",
+              "mrsp_update", "closed_loop", "separation")
 """Nodes by the cost of their proofs (README, proof figures): a mutant meets the cheap proofs first."""
 
 

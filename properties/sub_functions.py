@@ -1,10 +1,11 @@
 """Properties of the sub-functions tested on their own (seed 001 §3.4: each sub-function model with its own test
 cases): the ceiling offset dV, the adhesion factor K, the gradient's share of the safe deceleration, the choice of
-the most restrictive target, the leader's stopping point and the tachometer's plausibility check.
+the most restrictive target, the limits exceeded, the leader's stopping point and the tachometer's plausibility
+check.
 
 Each node runs the very function the larger nodes call (:data:`~atcs.model.curves.CEILING_OFFSET`,
 :data:`~atcs.model.curves.ADHESION`, :data:`~atcs.model.curves.GRADIENT_ACCELERATION`,
-:data:`~atcs.model.dynamic_profile.MOST_RESTRICTIVE`,
+:data:`~atcs.model.dynamic_profile.MOST_RESTRICTIVE`, :data:`~atcs.model.dynamic_profile.EXCEEDANCES`,
 :data:`~atcs.model.authority.STOPPING_POINT`,
 :data:`~atcs.model.position.TACHO_CHECK`), with all its data
 symbolic, so ``atcs vectors generate`` gives each its own vectors.
@@ -17,7 +18,7 @@ from fractions import Fraction
 
 from atcs.model.authority import STOPPING_POINT
 from atcs.model.curves import ADHESION, CEILING_OFFSET, GRADIENT_ACCELERATION, MIN_SPAN, CurveLocations
-from atcs.model.dynamic_profile import MOST_RESTRICTIVE
+from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
 from atcs.model.position import TACHO_CHECK
 from atcs.properties.property import Assumption, Property
 
@@ -73,6 +74,16 @@ def _nearest_target(o, p, s, i, out, nxt):
         return o.and_(*(chosen <= x for x in locations), o.or_(*(o.eq(chosen, x) for x in locations)))
 
     return o.and_(*(nearest(f.name) for f in fields(CurveLocations)))
+
+
+def _strictly_beyond(o, p, s, i, out, nxt):
+    """Over a limit exactly when the max safe front is strictly beyond its curve's location or the measured speed
+    strictly above its ceiling (at the limit itself the train is not over it)."""
+    def over(name):
+        return o.or_(i.max_safe_front_m > getattr(i, f"{name}_location_m"),
+                     i.measured_speed_mps > getattr(i, f"{name}_ceiling_mps"))
+
+    return o.and_(*(o.eq(getattr(out, f"over_{name}"), over(name)) for name in ("permitted", "warning", "sbi", "ebi")))
 
 
 LEADER_REPORT = Assumption(
@@ -188,6 +199,15 @@ PROPERTIES = (
              "or behind every target's, and one of them.",
         node=MOST_RESTRICTIVE,
         holds=_nearest_target,
+    ),
+    Property(
+        name="exceedances.strictly_beyond",
+        requirement="DYN-02",
+        seed="000 §2.4.3",
+        text="Each limit (permitted, warning, SBI, EBI) is exceeded exactly when the max safe front is strictly "
+             "beyond its curve's location for the measured speed or the measured speed strictly above its ceiling.",
+        node=EXCEEDANCES,
+        holds=_strictly_beyond,
     ),
     Property(
         name="stopping_point.ahead_of_rear",

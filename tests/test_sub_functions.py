@@ -39,6 +39,9 @@ MUTANTS = {
     ),
     # the farthest target's curve supervised (atcs mutate's minmax at most_restrictive:+4)
     "most_restrictive.nearest_target": (dynamic_profile.most_restrictive, "o.min(", "o.max("),
+    # EB already at the EB ceiling (atcs mutate's cmp_strict at exceedances:+8)
+    "exceedances.strictly_beyond": (dynamic_profile.exceedances, "speed_mps > ceiling.ebi_mps",
+                                    "speed_mps >= ceiling.ebi_mps"),
     # the braking distance subtracted: a stopping point behind the rear
     "stopping_point.ahead_of_rear": (
         authority.stopping_point_m, "return rear_m + speed_mps * speed_mps", "return rear_m - speed_mps * speed_mps",
