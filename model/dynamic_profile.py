@@ -230,7 +230,6 @@ def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: floa
     return SampledCurves(positions, mrsp, speeds)
 
 
-
 # --- the choice of the most restrictive target as a sub-function node -------------------------------------------
 
 
