@@ -287,14 +287,20 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "the cycle's end speed, the brake counter counts the cycles of EB command up to the build-up "
                 "(0 without it), and the latches record this cycle's EB and SB commands."
             ),
-            holds=lambda o, p, s, i, out, nxt: o.and_(
-                o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
-                o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, o.min(s.brake_cycles + o.const(1), o.const(n_be)),
-                                             o.const(0))),
-                o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake)),
+            holds=follows_plant_and_atp,
             node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
         ),
     )
+
+
+def follows_plant_and_atp(o, p, s, i, out, nxt):
+    """CL-05: the true front advances by the distance run, the true speed becomes the end speed, the brake counter
+    counts the cycles of EB command up to the build-up (0 without it), the latches record the commands."""
+    counted = o.min(s.brake_cycles + o.const(1), p.brake_build_up_cycles)
+    return o.and_(
+        o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
+        o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, counted, o.const(0))),
+        o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake))
 
 
 def _supervises_eoa_and_ceilings(o, p, s, i, out, nxt):

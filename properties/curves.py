@@ -55,7 +55,7 @@ PRESETS = {
                 **STEPPED_EMERGENCY_BRAKE},
 }
 """The fixed parameters of each preset's curve proofs: the seeds' trains, and the seed 000 train with a
-two-step emergency brake."""
+three-step emergency brake."""
 
 
 def _track_and_target(o, p, s, i):
@@ -118,7 +118,7 @@ def _ebi_protects_ebd(o, p, s, i, out, nxt):
     return o.implies(o.and_(measured, i.front_m <= out.ebi_m), i.front_m + distance <= ebd)
 
 
-def _gradient_acceleration_mps2(o, p, g):
+def seed_gradient_acceleration_mps2(o, p, g):
     """``g * gradient / (1000 + 10 * M_rotating)``, the mass by the gradient's sign, stated from the seed."""
     mass = o.ite(g > o.const(0), p.rotating_mass_uphill_percent, p.rotating_mass_downhill_percent)
     return o.const("9.81") * g / (o.const(1000) + o.const(10) * mass)
@@ -144,7 +144,7 @@ def _ebd_is_braking_curve(o, p, s, i, out, nxt):
         for j, g in enumerate(p.gradient_permille):
             low = behind if j == 0 else o.max(behind, starts[j])
             high = ahead if j + 1 == len(starts) else o.min(ahead, starts[j + 1])
-            total = total + (k * a_brake + _gradient_acceleration_mps2(o, p, g)) * o.max(o.const(0), high - low)
+            total = total + (k * a_brake + seed_gradient_acceleration_mps2(o, p, g)) * o.max(o.const(0), high - low)
         return total
 
     energy = []

@@ -38,6 +38,7 @@ from atcs.properties.closed_loop import (
     TIMING,
     brake_cycle_cases,
     braking_invariant,
+    follows_plant_and_atp,
     whole_cycles,
 )
 from atcs.properties.curves import MAX_LINE_M
@@ -143,6 +144,7 @@ MARGIN = Assumption(
     lambda o, p, s, i: p.safety_margin_m >= one_cycle_closing_m(o, p),
 )
 
+
 def _authority_on_safe_position(o, p, s, i, out, nxt):
     """The end of authority is the authority node's for the follower's max safe front (measured front + odometry
     bound) and min safe rear (measured front - bound - train length), the other inputs as delivered."""
@@ -159,11 +161,8 @@ def _state_follows(o, p, s, i, out, nxt):
     """The follower's plant and latches as in the closed loop (CL-05); the leader moves by its input, and its
     earliest stopping point is its physics' (:func:`earliest_stop_m`) from its new rear and speed."""
     leader_rear = s.leader_rear_m + i.leader_distance_m
-    n_be = p.brake_build_up_cycles
     return o.and_(
-        o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
-        o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, o.min(s.brake_cycles + o.const(1), n_be), o.const(0))),
-        o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake),
+        follows_plant_and_atp(o, p, s, i, out, nxt),
         o.eq(nxt.leader_rear_m, leader_rear), o.eq(nxt.leader_speed_mps, i.leader_next_speed_mps),
         o.eq(nxt.leader_stop_m, earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)),
     )

@@ -14,12 +14,12 @@ symbolic, so ``atcs vectors generate`` gives each its own vectors.
 from __future__ import annotations
 
 from dataclasses import fields
-from fractions import Fraction
 
 from atcs.model.authority import STOPPING_POINT
 from atcs.model.curves import ADHESION, CEILING_OFFSET, GRADIENT_ACCELERATION, MIN_SPAN, CurveLocations
 from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
 from atcs.model.position import TACHO_CHECK
+from atcs.properties.curves import seed_gradient_acceleration_mps2
 from atcs.properties.property import Assumption, Property
 
 NATIONAL_OFFSET = Assumption(
@@ -54,17 +54,9 @@ ROTATING_MASSES = Assumption(
 
 
 def _gradient_from_the_seed(o, p, s, i, out, nxt):
-    """A_gradient * (1000 + 10 * M_rotating) = g * gradient, with the uphill mass on a rising gradient and the
-    downhill mass on a falling one (either at 0: the term is 0 then)."""
-    g, a = i.gradient_permille, out.a_gradient_mps2
-    gravity = o.const(Fraction(981, 100))
-
-    def with_mass(mass):
-        return o.eq(a * (o.const(1000) + o.const(10) * mass), gravity * g)
-
-    return o.and_(o.implies(g > o.const(0), with_mass(p.rotating_mass_uphill_percent)),
-                  o.implies(g < o.const(0), with_mass(p.rotating_mass_downhill_percent)),
-                  o.implies(o.eq(g, o.const(0)), o.eq(a, o.const(0))))
+    """A_gradient = g * gradient / (1000 + 10 * M_rotating), the uphill mass on a rising gradient and the downhill
+    one on a falling gradient (0 on level track, with either)."""
+    return o.eq(out.a_gradient_mps2, seed_gradient_acceleration_mps2(o, p, i.gradient_permille))
 
 
 def _nearest_target(o, p, s, i, out, nxt):
