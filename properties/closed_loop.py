@@ -185,21 +185,11 @@ def braking_invariant(o, p, s, eoa_m, n_t: int, n_be: int):
     return o.and_(s.speed_mps >= zero, o.or_(*cases, braking))
 
 
-CASE_SPEED_BOUND_MPS = Fraction(MAX_SPEED_KMH + 50) / KMH_PER_MPS
-"""The speed bound of each :func:`brake_cycle_cases` case: above any speed the braking invariant allows (the
-EBI ceiling at the top MRSP is 15 km/h over it, the build-up margin a few km/h more). Faster states fall in
-the step's rest case, which the invariant refutes at once. Soundness does not depend on the value (the cases
-and the rest cover every state); speed does: with the bound explicit, cvc5 checks each case in seconds, and
-without it case 1 of ``separation.no_collision_rbd_seed000`` had no answer in 600 s (README, certify)."""
-
-
 def brake_cycle_cases(n_be: int):
-    """``Property.cases``: one inductive-step case per value of the EB-command counter, each at a speed
-    within :data:`CASE_SPEED_BOUND_MPS`."""
+    """``Property.cases``: one inductive-step case per value of the EB-command counter."""
 
     def by_brake_cycles(o, p, s):
-        bounded = s.speed_mps <= o.const(CASE_SPEED_BOUND_MPS)
-        return tuple(o.and_(o.eq(s.brake_cycles, o.const(c)), bounded) for c in range(n_be + 1))
+        return tuple(o.eq(s.brake_cycles, o.const(c)) for c in range(n_be + 1))
 
     return by_brake_cycles
 
