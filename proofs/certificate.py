@@ -7,7 +7,8 @@ itself, its lemmas assumed. Its certificate is three kinds of script, each of wh
 - ``base``: a run from an initial state of k + 1 steps (every transition taken, every assumption and lemma
   holding) on which the property fails at some step 0 .. k;
 - ``step``: a path of k + 1 pairwise distinct states from any state, the property holding at steps 0 .. k-1
-  and failing at step k (one script per case when the property splits its step, plus the states in no case);
+  and failing at step k (one script per case when the property splits its step, plus the states in no case:
+  the split is ``Property.certificate_cases`` when the property has one, else the engine's ``Property.cases``);
 - ``invariant``: a step where ``phi`` holds and the property does not.
 
 When every state is initial (a stateless node) the base omits the initial condition (it is ``true``); at k = 0
@@ -92,10 +93,11 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
         step = [*path, *(u.distinct(j, k) for j in range(k)), *(f.prop for f in frames[:k]), z3.Not(frames[k].prop)]
         claim = (f"{prop.name} holds after any {k} distinct steps on which it held" if k else
                  f"{prop.name} holds in every state and input that meet its assumptions")
-        if prop.cases is None:
+        split = prop.certificate_cases or prop.cases
+        if split is None:
             result.append(Obligation("step", claim, _script(header, "step", step)))
         else:
-            cases = prop.cases(SYMBOLIC, u.params, u.state(max(k - 1, 0)))
+            cases = split(SYMBOLIC, u.params, u.state(max(k - 1, 0)))
             every = (*cases, SYMBOLIC.not_(SYMBOLIC.or_(*cases)))
             for j, case in enumerate(every, start=1):
                 what = f"case {j} of {len(every)}" + (" (the states in no other case)" if j == len(every) else "")

@@ -54,6 +54,10 @@ class Property:
     cases: Callable[..., Any] | None = None
     """``cases(o, params, state) -> tuple of B``: split the inductive step by the state before the last step,
     one solver call per case (the engine adds the rest of the state space as one more case)."""
+    certificate_cases: Callable[..., Any] | None = None
+    """The split of the certificate's inductive step (:mod:`atcs.proofs.certificate`), as ``cases``, when it is
+    not ``cases``: the certificate is checked by cvc5 as well as z3, and a split that helps one solver can stall
+    the other (README, ``atcs certify``). Any split is sound: the certificate adds the rest as one more case."""
 
     def __post_init__(self):
         if not _NAME.match(self.name):

@@ -36,7 +36,7 @@ from atcs.properties.closed_loop import (
     MEASUREMENT,
     PRESETS,
     TIMING,
-    brake_cycle_cases,
+    brake_cycle_splits,
     braking_invariant,
     follows_plant_and_atp,
     whole_cycles,
@@ -224,7 +224,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
                       "true rear less the safety margin as the end of authority."),
                 holds=lambda o, p, s, i, out, nxt: braking_invariant(
                     o, p, s, s.leader_rear_m - p.safety_margin_m, n_t, n_be),
-                assumptions=assumptions, lemmas=(reports,), cases=brake_cycle_cases(n_be), **common,
+                assumptions=assumptions, lemmas=(reports,), **brake_cycle_splits(n_be), **common,
             ),
             Property(
                 name=f"separation.no_collision_bw_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
@@ -264,7 +264,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             holds=lambda o, p, s, i, out, nxt: o.and_(
                 s.leader_known, s.best_rear_m <= s.best_stop_m,
                 braking_invariant(o, p, s, s.best_stop_m - p.safety_margin_m, n_t, n_be)),
-            assumptions=FOLLOWER, cases=brake_cycle_cases(n_be), **common,
+            assumptions=FOLLOWER, **brake_cycle_splits(n_be), **common,
         ),
         Property(
             name=f"separation.no_collision_rbd_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
@@ -272,7 +272,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
                   "deceleration) and whatever the follower's driver or ATO commands, the follower's true front "
                   "stays behind the leader's true rear, with reports delayed, reordered or lost."),
             holds=lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m,
-            assumptions=(*assumptions, MARGIN), lemmas=(invariant, reports, earliest), cases=brake_cycle_cases(n_be),
+            assumptions=(*assumptions, MARGIN), lemmas=(invariant, reports, earliest), **brake_cycle_splits(n_be),
             **common,
         ),
     )

@@ -3,7 +3,6 @@ certificate, or one at too shallow a depth, is refuted by both; the scripts are 
 report is refused with the file, the field and the value."""
 
 import dataclasses
-import fnmatch
 import hashlib
 import json
 
@@ -16,46 +15,32 @@ from atcs.proofs.cli import main
 from atcs.proofs.engine import prove
 from atcs.proofs.mutants import mutant_property
 from atcs.properties import PROPERTIES
+from atcs.properties.closed_loop import CERTIFICATE_SPEED_BOUND_MPS
 
 GRANTS_TAKEN = ("o.ite(free, code(GRANT), code(REFUSE))", "code(GRANT)")
 """The resource manager grants a resource another train owns (the mutant of tests/test_resources.py)."""
 
 
 class TestProvedProperties:
-    def test_every_proved_property_is_certified_the_z3_only_ones_by_z3(self, certify_suite_run, proof_suite_run):
+    def test_every_proved_property_is_certified_by_both_solvers(self, certify_suite_run, proof_suite_run):
         # the session's atcs certify --report on the session's atcs prove report (conftest.py)
         depths = depths_from_report(proof_suite_run.json)
         assert len(depths) == len(PROPERTIES)
         doc = certify_suite_run.doc
         assert doc["solver_timeout_s"] == certify_suite_run.timeouts_s and set(doc["solver_versions"]) == set(SOLVERS)
-        z3_only = {n for n in depths if any(fnmatch.fnmatchcase(n, g) for g in certify_suite_run.z3_only)}
-        assert doc["z3_only"] == sorted(z3_only) == sorted(certify_suite_run.z3_only)
-        assert set(certify_suite_run.by_name) == set(depths)
+        assert doc["z3_only"] == [] and set(certify_suite_run.by_name) == set(depths)
         wrong = {}
         for name, r in certify_suite_run.by_name.items():
             assert r["k"] == depths[name] and r["checks"]
-            assert all(c["z3"]["verdict"] == "unsat" for c in r["checks"]), (name, r["message"])
-            assert not any(c["cvc5"]["verdict"] == "sat" for c in r["checks"]), (name, r["message"])
             for c in r["checks"]:
                 text = (certify_suite_run.dir / c["file"]).read_text()
                 assert hashlib.sha256(text.encode()).hexdigest() == c["sha256"]
-            if name in z3_only:  # cvc5 not asked: z3 alone confirms them here (README gives cvc5's figures)
-                assert r["status"] == "unconfirmed" and r["confirmed_by"] == ["z3"]
-                assert all(c["cvc5"]["reason"] == "not checked: cvc5 was not asked (--z3-only)" for c in r["checks"])
-                continue
-            if r["confirmed_by"] != list(SOLVERS) or (r["status"] != "certified" and not _rests_on_z3_only(
-                    name, certify_suite_run.by_name, z3_only)):
-                wrong[name] = r["message"]
+            verdicts = {(solver, c[solver]["verdict"]) for c in r["checks"] for solver in SOLVERS}
+            if r["status"] != "certified" or r["confirmed_by"] != list(SOLVERS) or verdicts != {
+                    (solver, "unsat") for solver in SOLVERS}:
+                wrong[name] = (r["status"], r["message"], sorted(verdicts))
         assert not wrong, wrong
-        assert certify_suite_run.code == (0 if doc["summary"]["certified"] == len(depths) else 3)
-
-
-def _rests_on_z3_only(name: str, records: dict, z3_only: set[str]) -> bool:
-    """The property is unconfirmed only because a lemma it rests on (directly or not) was checked by z3 alone."""
-    lemma = records[name]["message"].removeprefix("lemma ").removesuffix(" is unconfirmed")
-    if records[name]["status"] != "unconfirmed" or lemma not in records[name]["lemmas"]:
-        return False
-    return lemma in z3_only or _rests_on_z3_only(lemma, records, z3_only)
+        assert doc["summary"]["certified"] == len(depths) and certify_suite_run.code == 0
 
 
 class TestRefuted:
@@ -109,6 +94,18 @@ class TestScripts:
             assert solver.check() == z3.unsat
             assert all(check[s]["verdict"] == "unsat" for s in SOLVERS)
         assert "certified" in capsys.readouterr().out
+
+    def test_the_step_is_split_by_the_certificate_cases_and_the_rest(self):
+        # closed-loop properties: the engine splits its step by the EB-command counter, the certificate also
+        # bounds the speed in each case (properties/closed_loop.py); the rest case keeps every state covered
+        prop = PROPERTIES["closed_loop.braking_invariant_seed000"]
+        n_cases = int(prop.fixed_params["brake_build_up_cycles"]) + 1
+        bound = f"(>= {z3.RealVal(CERTIFICATE_SPEED_BOUND_MPS).sexpr()} speed_mps@0)"
+        steps = [ob for ob in obligations(prop, 1, PROPERTIES) if ob.check.startswith("step")]
+        assert [ob.check for ob in steps] == [f"step_case_{j}" for j in range(1, n_cases + 2)]
+        assert all(bound in ob.script for ob in steps) and "(the states in no other case)" in steps[-1].claim
+        assert prop.cases is not prop.certificate_cases
+        assert all(check_obligation("z3", ob, 120).verdict == "unsat" for ob in (steps[0], steps[-1]))
 
     def test_a_lemma_without_a_certificate_leaves_the_property_unconfirmed(self):
         results = {"position.rear_in_interval": certify_one("position.rear_in_interval", 0, 60)}
