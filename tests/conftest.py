@@ -23,9 +23,9 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 _PROOF_RUN: dict = {}
 
 CERTIFY_TIMEOUTS_S = {"z3": 600, "cvc5": 1200}
-"""Per-check time limits of the session's ``atcs certify`` run, both solvers on every property: about seven
-times each solver's longest check on an idle machine (z3 under 90 s, cvc5 164 s: README, ``atcs certify``), so
-that a slower machine gives the same verdicts."""
+"""Per-check time limits of the session's ``atcs certify`` run, both solvers on every property: cvc5's about seven
+times its longest check (164 s, case 10 of ``separation.braking_invariant_rbd_seed000``), z3's far above its
+checks (seconds each: README, ``atcs certify``), so that a slower machine gives the same verdicts."""
 
 _BACKGROUND = """
 import json
