@@ -44,6 +44,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.curves import FAR_M
+from atcs.model.errors import AtcsInputError
 from atcs.model.ops import N, Ops
 from atcs.model.profile import Profile
 
@@ -57,7 +58,7 @@ radio MA (seed 003 §2.1.2, §2.2.2)."""
 REASON_NAMES = {FAR: "far", SPEED_LIMIT: "speed limit", MA_END: "MA end"}
 
 
-class AtoError(ValueError):
+class AtoError(AtcsInputError):
     """Invalid ATO planning data; the message names the argument and the value."""
 
 

@@ -9,8 +9,10 @@ from __future__ import annotations
 
 import string
 
+from atcs.model.errors import AtcsInputError
 
-class PacketError(ValueError):
+
+class PacketError(AtcsInputError):
     """Malformed packet data: the message names the packet, the field, its bit offset and the value."""
 
     def __init__(self, packet: str, field: str, bit_offset: int, problem: str):

@@ -14,16 +14,14 @@ curve at the train's position, the ceilings, and what supervision compares each 
 :func:`limits_at` and :func:`exceedances` are what supervision runs each cycle, computed from
 segments (no per-metre arrays) and written once over the ops; the closed-loop node uses them
 with its one target. The number of targets depends on the data, so :func:`supervised_targets`
-takes concrete profiles. :func:`curve_speeds_at` (the speed of each curve at a location) and
-:func:`sampled_curves` (each curve over the horizon, for plotting) are concrete queries on top.
+takes concrete profiles. :func:`curve_speeds_at` (the speed of each curve at a location) is a
+concrete query on top; :func:`atcs.sim.plots.sampled_curves` samples each curve for plotting.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
 from typing import Generic
-
-import numpy as np
 
 from atcs.model.curves import FAR_M, CurveLocations, Target, ceiling_offset_mps, curve_locations
 from atcs.model.node import Node, Stateless, always
@@ -143,7 +141,7 @@ def supervise_position(o: Ops, t: TrainData, n: NationalData, horizon: Horizon, 
 # --- concrete queries: the speed of each curve at a location, and the curves sampled for plots ---
 
 
-def _curve_ceiling(ceiling: Ceilings, name: str):
+def curve_ceiling(ceiling: Ceilings, name: str):
     return {"ebd": ceiling.ebi_mps, "ebi": ceiling.ebi_mps, "sbi": ceiling.sbi_mps,
             "warning": ceiling.warning_mps}.get(name, ceiling.permitted_mps)
 
@@ -159,7 +157,7 @@ def curve_speeds_at(t: TrainData, n: NationalData, horizon: Horizon, x_m, a_est_
     ceiling = ceilings(o, n, value_at(o, horizon.mrsp, x_m))
     speeds = {}
     for name in CURVE_NAMES:
-        top = _curve_ceiling(ceiling, name)
+        top = curve_ceiling(ceiling, name)
 
         def location(v, name=name):
             per_target = [curve_locations(o, t, n, horizon.gradient, g, v, a_est_mps2) for g in targets]
@@ -177,57 +175,6 @@ def curve_speeds_at(t: TrainData, n: NationalData, horizon: Horizon, x_m, a_est_
             low, high = (mid, high) if location(mid) >= x_m else (low, mid)
         speeds[name] = low
     return CurveSpeeds(**{f"{name}_mps": v for name, v in speeds.items()})
-
-
-@dataclass(frozen=True)
-class SampledCurves:
-    """Each curve's speed (m/s) at ``positions_m``, for plotting: the ceilings included, and
-    ``mrsp_mps`` the MRSP itself."""
-
-    positions_m: np.ndarray
-    mrsp_mps: np.ndarray
-    speeds_mps: dict[str, np.ndarray]
-
-
-def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: float, a_est_mps2: float,
-                   *, samples: int = 400, speed_steps: int = 200) -> SampledCurves:
-    """Each curve over ``[from_m, eoa_m]`` on the float backend. Each target's curves are traced in
-    speed (the inverse query at ``speed_steps`` speeds, exact points of the curve), interpolated onto
-    ``samples`` positions, and the lowest of the targets and the ceiling taken at each; from its
-    slowest traced point to the target a curve holds that speed (a train under it does not reach the
-    target's EBD before the target)."""
-    if samples < 2 or speed_steps < 2:
-        raise ValueError(f"samples and speed_steps must be at least 2, got {samples!r} and {speed_steps!r}")
-    o = FLOAT
-    to_m = float(horizon.eoa_m)
-    if not from_m < to_m:
-        raise ValueError(f"from_m must lie before the end of authority {to_m:g} m, got {from_m!r}")
-    positions = np.linspace(from_m, to_m, samples)
-    mrsp = np.array([float(value_at(o, horizon.mrsp, x)) for x in positions])
-    top_speed = float(max(horizon.mrsp.values)) * 1.5 + 10
-    targets = supervised_targets(o, n, horizon, from_m)
-    speeds = {name: np.full(samples, np.inf) for name in CURVE_NAMES}
-    for target in targets:
-        # finer near the target's speeds, where the curves end
-        v_target, v_foot = float(target.speed_mps), float(target.ebd_foot_mps)
-        grid = np.union1d(np.linspace(0.0, top_speed, speed_steps),
-                          np.linspace(v_target + 1e-6, v_foot + 5.0, speed_steps // 2))
-        per_speed = [curve_locations(o, t, n, horizon.gradient, target, float(v), a_est_mps2) for v in grid]
-        for name in CURVE_NAMES:
-            where = np.array([getattr(c, f"{name}_m") for c in per_speed])
-            constrains = where < FAR_M / 2  # speeds at or under the target's never reach its curve
-            if not constrains.any():
-                continue
-            # locations fall as the speed rises: interpolate the speed over increasing locations
-            xs, vs = where[constrains][::-1], grid[constrains][::-1]
-            # from the slowest speed it constrains up to the target, a curve holds that speed
-            curve = np.interp(positions, xs, vs, left=np.inf, right=vs[-1])
-            curve[positions > float(target.location_m)] = np.inf  # past the target: its speed is the MRSP's
-            speeds[name] = np.minimum(speeds[name], curve)
-    for name in CURVE_NAMES:
-        cap = np.array([float(_curve_ceiling(ceilings(o, n, v), name)) for v in mrsp])
-        speeds[name] = np.minimum(speeds[name], cap)
-    return SampledCurves(positions, mrsp, speeds)
 
 
 # --- the choice of the most restrictive target as a sub-function node -------------------------------------------

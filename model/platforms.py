@@ -27,6 +27,7 @@ from pathlib import Path
 
 from atcs.model.bits import PacketError, hex_bytes
 from atcs.model.data_files import read_toml
+from atcs.model.errors import AtcsInputError
 from atcs.model.platform_packets import (
     M_PLATFORM_MM,
     MAX_DISTANCE,
@@ -43,7 +44,7 @@ from atcs.model.profile import parse_number
 SIDES = ("left", "right", "both")
 
 
-class PlatformDataError(ValueError):
+class PlatformDataError(AtcsInputError):
     """Bad platform data; the message names the source, the field and the value."""
 
 

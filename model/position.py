@@ -44,6 +44,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Generic
 
+from atcs.model.errors import AtcsInputError
 from atcs.model.node import Node, Stateless, always
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import parse_number
@@ -53,7 +54,7 @@ MIN_CYCLE_S = "0.001"
 with data out of range the outputs are meaningless but the backends stay comparable on any input."""
 
 
-class TagTableError(ValueError):
+class TagTableError(AtcsInputError):
     """A malformed tag table or position parameter; the message names the source, the field and the value."""
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
 
+from atcs.model.errors import AtcsInputError
 from atcs.model.ops import N, Ops
 
 KMH_PER_MPS = Fraction(36, 10)
@@ -28,7 +29,7 @@ MAX_GRADIENT_PERMILLE = 100
 """Steepest gradient accepted (per mille, either sign): above any adhesion railway's."""
 
 
-class ProfileError(ValueError):
+class ProfileError(AtcsInputError):
     """Invalid profile data; the message names the field, the index and the value."""
 
 

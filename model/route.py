@@ -30,13 +30,14 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.data_files import read_toml
+from atcs.model.errors import AtcsInputError
 from atcs.model.profile import parse_number
 
 KINDS = ("track", "switch")
 DIRECTIONS = ("normal", "reverse")
 
 
-class RouteError(ValueError):
+class RouteError(AtcsInputError):
     """Malformed route or switch data; the message names the source, the resource, the field and the value."""
 
 

@@ -21,11 +21,12 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
 
+from atcs.model.errors import AtcsInputError
 from atcs.model.ops import B, N
 from atcs.model.profile import KMH_PER_MPS
 
 
-class TrainDataError(ValueError):
+class TrainDataError(AtcsInputError):
     """Invalid train or national data; the message names the field and the value."""
 
 

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import pytest
 
-from atcs.proofs.engine import Result, prove
+from atcs.model.errors import AtcsError
+from atcs.proofs.engine.prove import Result, prove
 from atcs.properties import PROPERTIES, Property, select
 
 
@@ -55,7 +56,7 @@ class ProofSuite(pytest.Collector):
         return []
 
 
-class PropertyFailed(Exception):
+class PropertyFailed(AtcsError):
     """A property not proved: falsified, unknown or error."""
 
 

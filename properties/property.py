@@ -55,7 +55,7 @@ class Property:
     """``cases(o, params, state) -> tuple of B``: split the inductive step by the state before the last step,
     one solver call per case (the engine adds the rest of the state space as one more case)."""
     certificate_cases: Callable[..., Any] | None = None
-    """The split of the certificate's inductive step (:mod:`atcs.proofs.certificate`), as ``cases``, when it is
+    """The split of the certificate's inductive step (:mod:`atcs.proofs.certify.obligations`), as ``cases``, when it is
     not ``cases``: the certificate is checked by cvc5 as well as z3, and a split that helps one solver can stall
     the other (README, ``atcs certify``). Any split is sound: the certificate adds the rest as one more case."""
 

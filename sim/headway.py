@@ -37,6 +37,7 @@ from atcs.model.authority import AuthorityInputs, AuthorityState, leader_limit_m
 from atcs.model.closed_loop import worst_acceleration_mps2
 from atcs.model.curves import FAR_M, Target, ebd_location_m
 from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, supervise_position
+from atcs.model.errors import AtcsInputError
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import plant_gradient
@@ -61,7 +62,7 @@ LEADER_FRONT_M = 500
 """The leader's front at power-up; the follower powers up on the tag one spacing behind the leader's rear."""
 
 
-class HeadwayError(ValueError):
+class HeadwayError(AtcsInputError):
     """A bad argument (named, with its value), or a run that reaches no steady state."""
 
 

@@ -14,12 +14,13 @@ from typing import Any
 
 import numpy as np
 
+from atcs.model.errors import AtcsViolation
 from atcs.model.node import Node
 from atcs.model.ops.floating import FLOAT
 from atcs.properties.property import Property
 
 
-class PropertyViolation(AssertionError):
+class PropertyViolation(AtcsViolation):
     """A property predicate was false at a step where the property applies."""
 
     def __init__(self, prop: Property, step: int, state: Any, inputs: Any, outputs: Any):

@@ -6,12 +6,17 @@ from __future__ import annotations
 import math
 import os
 import tempfile
+from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
 from matplotlib.figure import Figure  # no pyplot: files only, no display or global state
 
-from atcs.model.dynamic_profile import SampledCurves
-from atcs.model.profile import KMH_PER_MPS
+from atcs.model.curves import FAR_M, curve_locations
+from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, ceilings, curve_ceiling, supervised_targets
+from atcs.model.ops.floating import FLOAT
+from atcs.model.profile import KMH_PER_MPS, value_at
+from atcs.model.train_data import NationalData, TrainData
 
 KMH = float(KMH_PER_MPS)
 
@@ -24,6 +29,57 @@ CURVE_STYLE = {
     "permitted": ("permitted", "#2ca02c", "-"),
     "indication": ("indication", "#1f77b4", ":"),
 }
+
+
+@dataclass(frozen=True)
+class SampledCurves:
+    """Each curve's speed (m/s) at ``positions_m``, for plotting: the ceilings included, and
+    ``mrsp_mps`` the MRSP itself."""
+
+    positions_m: np.ndarray
+    mrsp_mps: np.ndarray
+    speeds_mps: dict[str, np.ndarray]
+
+
+def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: float, a_est_mps2: float,
+                   *, samples: int = 400, speed_steps: int = 200) -> SampledCurves:
+    """Each curve over ``[from_m, eoa_m]`` on the float backend. Each target's curves are traced in
+    speed (the inverse query at ``speed_steps`` speeds, exact points of the curve), interpolated onto
+    ``samples`` positions, and the lowest of the targets and the ceiling taken at each; from its
+    slowest traced point to the target a curve holds that speed (a train under it does not reach the
+    target's EBD before the target)."""
+    if samples < 2 or speed_steps < 2:
+        raise ValueError(f"samples and speed_steps must be at least 2, got {samples!r} and {speed_steps!r}")
+    o = FLOAT
+    to_m = float(horizon.eoa_m)
+    if not from_m < to_m:
+        raise ValueError(f"from_m must lie before the end of authority {to_m:g} m, got {from_m!r}")
+    positions = np.linspace(from_m, to_m, samples)
+    mrsp = np.array([float(value_at(o, horizon.mrsp, x)) for x in positions])
+    top_speed = float(max(horizon.mrsp.values)) * 1.5 + 10
+    targets = supervised_targets(o, n, horizon, from_m)
+    speeds = {name: np.full(samples, np.inf) for name in CURVE_NAMES}
+    for target in targets:
+        # finer near the target's speeds, where the curves end
+        v_target, v_foot = float(target.speed_mps), float(target.ebd_foot_mps)
+        grid = np.union1d(np.linspace(0.0, top_speed, speed_steps),
+                          np.linspace(v_target + 1e-6, v_foot + 5.0, speed_steps // 2))
+        per_speed = [curve_locations(o, t, n, horizon.gradient, target, float(v), a_est_mps2) for v in grid]
+        for name in CURVE_NAMES:
+            where = np.array([getattr(c, f"{name}_m") for c in per_speed])
+            constrains = where < FAR_M / 2  # speeds at or under the target's never reach its curve
+            if not constrains.any():
+                continue
+            # locations fall as the speed rises: interpolate the speed over increasing locations
+            xs, vs = where[constrains][::-1], grid[constrains][::-1]
+            # from the slowest speed it constrains up to the target, a curve holds that speed
+            curve = np.interp(positions, xs, vs, left=np.inf, right=vs[-1])
+            curve[positions > float(target.location_m)] = np.inf  # past the target: its speed is the MRSP's
+            speeds[name] = np.minimum(speeds[name], curve)
+    for name in CURVE_NAMES:
+        cap = np.array([float(curve_ceiling(ceilings(o, n, v), name)) for v in mrsp])
+        speeds[name] = np.minimum(speeds[name], cap)
+    return SampledCurves(positions, mrsp, speeds)
 
 
 def planning_area(sampled: SampledCurves, eoa_m: float, title: str, paths: list[Path]) -> list[Path]:

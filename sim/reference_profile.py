@@ -29,6 +29,7 @@ from itertools import pairwise
 import numpy as np
 
 from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, curve_speeds_at
+from atcs.model.errors import AtcsError
 from atcs.model.ops.floating import float_record
 from atcs.model.restrictions import as_float
 from atcs.model.train_data import NationalData, TrainData
@@ -39,7 +40,7 @@ TOLERANCE = 1e-6
 DEFAULT_STEP_M = 5.0
 
 
-class ReferenceProfileError(RuntimeError):
+class ReferenceProfileError(AtcsError, RuntimeError):
     """No trustworthy profile on the stretch ``start_m .. stop_m``: ``status`` is the solver's (not optimal),
     or ``infeasible`` when the ceiling is 0 at two neighbouring grid points (the train cannot pass)."""
 

@@ -18,6 +18,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.data_files import read_toml
+from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
 from atcs.model.profile import parse_number
 from atcs.model.train_data import (
@@ -49,7 +50,7 @@ FAULT_FIELDS = {"spurious_tag": {"tag_id": 999999}, "tacho_drift": {"factor": No
 """Each fault's own fields, with their defaults (None: required)."""
 
 
-class ScenarioError(ValueError):
+class ScenarioError(AtcsInputError):
     """A malformed scenario; the message names the file, the field and the value."""
 
 

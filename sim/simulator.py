@@ -43,6 +43,7 @@ from atcs.model.ato import limits_ahead
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.doors import DOOR_LOOP, DcuState, DoorLoopInputs, DoorParams
 from atcs.model.dynamic_profile import Horizon, supervise_position
+from atcs.model.errors import AtcsViolation
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT, float_record, floats
@@ -82,7 +83,7 @@ RESOURCE_PROPERTIES = tuple(p for p in select("resources.*") if p.node is RESOUR
 DOOR_PROPERTIES = tuple(p for p in select("doors.*") if p.node is DOOR_LOOP)
 
 
-class SafetyViolation(AssertionError):
+class SafetyViolation(AtcsViolation):
     """A collision, or a train past a protection zone's start or the line's end."""
 
     def __init__(self, what: str, train: str, step: int, time_s: float):

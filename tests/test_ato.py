@@ -36,7 +36,7 @@ from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, Real, unwrap
 from atcs.model.profile import KMH_PER_MPS, speed_profile, value_at
-from atcs.proofs.mutants import mutate_function, patched
+from atcs.proofs.mutation.mutants import mutate_function, patched
 
 INPUTS = tuple(name for name in inspect.signature(ato_target_speed).parameters if name != "o")
 

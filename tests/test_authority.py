@@ -10,7 +10,7 @@ from atcs.model import authority
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.ops.exact import EXACT
 from atcs.model.route import RouteError, read_route, route
-from atcs.proofs.mutants import falsify
+from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES
 
 AUTHORITY_PROPERTIES = [p for p in PROPERTIES.values() if p.node is AUTHORITY]

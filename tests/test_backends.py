@@ -23,7 +23,7 @@ from atcs.model.node import as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, unwrap
-from atcs.proofs.system import variables
+from atcs.proofs.engine.system import variables
 
 REL_TOL = 1e-9
 ROLES = ("params", "state", "inputs")

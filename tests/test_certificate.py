@@ -9,11 +9,11 @@ import json
 import pytest
 import z3
 
-from atcs.proofs.certificate import SOLVERS, SolverCheck, check_obligation, obligations
-from atcs.proofs.certify import Certified, certify_one, depths_from_report, settle, solver_timeouts
+from atcs.proofs.certify.obligations import SOLVERS, SolverCheck, check_obligation, obligations
+from atcs.proofs.certify.campaign import Certified, certify_one, depths_from_report, settle, solver_timeouts
 from atcs.proofs.cli import main
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import mutant_property
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import mutant_property
 from atcs.properties import PROPERTIES
 from atcs.properties.closed_loop import CERTIFICATE_SPEED_BOUND_MPS
 
@@ -115,7 +115,7 @@ class TestScripts:
         assert c.status == "unconfirmed" and "lemma position.front_in_interval" in c.message
 
     def test_a_solver_that_gave_up_is_not_asked_again_and_says_so(self, monkeypatch):
-        import atcs.proofs.certify as certify
+        import atcs.proofs.certify.campaign as certify
 
         real = certify.check_obligation
         asked = []
@@ -169,7 +169,7 @@ class TestScripts:
 
     def test_a_formula_is_checked_once_by_each_solver(self, monkeypatch):
         """k = 0 on a stateless node: the base (every state initial) and the step are one formula."""
-        import atcs.proofs.certify as certify
+        import atcs.proofs.certify.campaign as certify
 
         real, asked = certify.check_obligation, []
 

@@ -11,7 +11,7 @@ import pytest
 
 from atcs.model.supervision import supervise
 from atcs.proofs.cli import main
-from atcs.proofs.mutants import mutant_property
+from atcs.proofs.mutation.mutants import mutant_property
 from atcs.properties import PROPERTIES
 
 LATCH = "supervision.eb_latched_until_standstill"
@@ -104,7 +104,7 @@ class TestProve:
 
         slow = dataclasses.replace(PROPERTIES["supervision.eb_above_ebi"], name="slow.needs_more_time")
         monkeypatch.setitem(PROPERTIES, slow.name, slow)
-        monkeypatch.setattr("atcs.proofs.engine._Deadline.remaining", _always_timeout)
+        monkeypatch.setattr("atcs.proofs.engine.prove._Deadline.remaining", _always_timeout)
         report = tmp_path / "r.json"
         assert main(["prove", "--only", "slow.*", "--json", str(report)]) == 3
         (record,) = json.loads(report.read_text())["properties"]
@@ -133,13 +133,13 @@ class TestProve:
         one_line_error(capsys, expected)
 
     def test_bad_output_path_is_reported_before_proving(self, tmp_path, capsys, monkeypatch):
-        monkeypatch.setattr("atcs.proofs.suite.run", _must_not_run)
+        monkeypatch.setattr("atcs.proofs.engine.suite.run", _must_not_run)
         assert main(["prove", "--json", str(tmp_path / "missing" / "r.json")]) == 2
         one_line_error(capsys, "does not exist")
 
 
 def _always_timeout(self):
-    from atcs.proofs.engine import _Timeout
+    from atcs.proofs.engine.prove import _Timeout
 
     raise _Timeout
 
@@ -224,7 +224,7 @@ class TestBench:
 def test_cycle_benchmark_checks_agreement_and_prints_ratios():
     from rich.console import Console
 
-    from atcs.proofs.bench_cycle import bench_cycle
+    from atcs.proofs.bench.cycle import bench_cycle
 
     console = Console(record=True, width=160)
     results = bench_cycle(console, cycles=5, prove_closed_loop=False)  # the proofs are timed by `atcs prove`
@@ -236,7 +236,7 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
 def test_sim_benchmark_prints_the_cost_per_fleet():
     from rich.console import Console
 
-    from atcs.proofs.bench_sim import bench_sim, fleet_scenario
+    from atcs.proofs.bench.sim import bench_sim, fleet_scenario
 
     console = Console(record=True, width=160)
     results = bench_sim(console, fleets=(2, 4), warm_up=5, cycles=10)  # the figures are for `atcs bench sim`

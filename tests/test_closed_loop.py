@@ -19,9 +19,9 @@ from atcs.model import closed_loop, curves, dynamic_profile, plant
 from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopInputs, ClosedLoopParams, ClosedLoopState
 from atcs.model.ops.exact import EXACT
 from atcs.model.train_data import seed000_train, subset026_national
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import falsify, patched
-from atcs.proofs.trace import replay, reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import falsify, patched
+from atcs.proofs.cex.trace import replay, reproduce
 from atcs.properties import select
 from atcs.properties.closed_loop import PRESETS, closed_loop_properties, preset_data
 from atcs.sim.drivers import worst_case_driver

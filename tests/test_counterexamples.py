@@ -17,17 +17,17 @@ from atcs.model.closed_loop import CLOSED_LOOP
 from atcs.model.node import as_dict, flatten
 from atcs.model.ops.symbolic import fresh_context, unwrap
 from atcs.model.supervision import supervise
-from atcs.proofs import smoothing as smoothing_module
-from atcs.proofs.bmc import Bmc, Check
-from atcs.proofs.cex_plot import plot_fields
+from atcs.proofs.cex import smoothing as smoothing_module
+from atcs.proofs.engine.bmc import Bmc, Check
+from atcs.proofs.cex.plot import plot_fields
 from atcs.proofs.cli import main
-from atcs.proofs.engine import prove
-from atcs.proofs.float_replay import float_replay
-from atcs.proofs.mutants import mutant_property, patched
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.cex.float_replay import float_replay
+from atcs.proofs.mutation.mutants import mutant_property, patched
 from atcs.proofs.report import write_counterexample
-from atcs.proofs.system import Unrolling
-from atcs.proofs.trace import Trace, input_changes, replay, reproduce, to_json
-from atcs.proofs.waveform import cycle_s, timescale, to_vcd
+from atcs.proofs.engine.system import Unrolling
+from atcs.proofs.cex.trace import Trace, input_changes, replay, reproduce, to_json
+from atcs.proofs.cex.vcd import cycle_s, timescale, to_vcd
 from atcs.properties import PROPERTIES, Property
 
 LATCH = "supervision.eb_latched_until_standstill"

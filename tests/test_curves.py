@@ -27,9 +27,9 @@ from atcs.model.train_data import (
     subset026_national,
     validate,
 )
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import patched
-from atcs.proofs.trace import replay, reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import patched
+from atcs.proofs.cex.trace import replay, reproduce
 from atcs.properties import PROPERTIES, select
 from atcs.properties.curves import PRESETS as CURVE_PRESETS
 

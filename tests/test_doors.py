@@ -22,7 +22,7 @@ from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.platform_packets import encode_packet69
 from atcs.model.platforms import Platform, packet_for_platforms, platform_data, platform_inputs
-from atcs.proofs.mutants import falsify, mutant_node
+from atcs.proofs.mutation.mutants import falsify, mutant_node
 from atcs.properties import PROPERTIES, select
 from atcs.sim.monitor import Monitor, PropertyViolation
 

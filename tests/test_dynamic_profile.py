@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from atcs.sim.plots import sampled_curves
 from atcs.model.curves import FAR_M, Target, curve_locations
 from atcs.model.dynamic_profile import (
     CURVE_NAMES,
@@ -17,7 +18,6 @@ from atcs.model.dynamic_profile import (
     ceilings,
     curve_speeds_at,
     ebd_foot_mps,
-    sampled_curves,
     supervise_position,
     supervised_targets,
 )

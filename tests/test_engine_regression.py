@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from atcs.proofs.engine import prove
-from atcs.proofs.trace import reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.cex.trace import reproduce
 
 ROOT = Path(__file__).parent / "regression"
 
@@ -64,7 +64,7 @@ def test_node_refuses_field_names_used_twice():
 
 def test_counterexample_that_does_not_replay_is_an_error(monkeypatch):
     """If the solver's trace and the exact replay disagree, the engine reports an internal error, not a verdict."""
-    import atcs.proofs.engine as engine
+    import atcs.proofs.engine.prove as engine
 
     real_extract = engine.extract
 
@@ -84,7 +84,7 @@ def test_array_fields_round_trip_through_trace_files(tmp_path):
     """Counterexamples of nodes with array fields are written and read back as lists."""
     import json
 
-    from atcs.proofs.trace import from_json, reproduce, to_csv, to_json
+    from atcs.proofs.cex.trace import from_json, reproduce, to_csv, to_json
 
     prop = MODULES["falsified/array_shift_negative"].PROPERTIES[0]
     result = prove(prop, timeout_s=120)

@@ -14,11 +14,11 @@ from fractions import Fraction
 import pytest
 
 from atcs.model.ops.exact import EXACT
-from atcs.proofs import mutation
+from atcs.proofs.mutation import campaign as mutation
 from atcs.proofs.cli import main
-from atcs.proofs.equivalents import EquivalentsError, load_equivalents
-from atcs.proofs.mutants import mutate_function
-from atcs.proofs.mutation_sites import OPERATORS, function_mutants
+from atcs.proofs.mutation.equivalents import EquivalentsError, load_equivalents
+from atcs.proofs.mutation.mutants import mutate_function
+from atcs.proofs.mutation.sites import OPERATORS, function_mutants
 from atcs.properties import PROPERTIES
 
 
@@ -131,7 +131,7 @@ class TestCampaign:
             return [p for p in real(mutant, nodes) if p.name in ("supervision.eb_latched_until_standstill",
                                                                  "supervision.eb_above_ebi")]
 
-        import atcs.proofs.engine as engine
+        import atcs.proofs.engine.prove as engine
 
         prove = engine.prove
 

@@ -26,8 +26,8 @@ from atcs.model.position import (
     tag_table,
 )
 from atcs.model.position_loop import POSITION_LOOP, PositionLoopInputs, PositionLoopParams, PositionLoopState
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import falsify
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES, select
 from atcs.sim.monitor import Monitor
 

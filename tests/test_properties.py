@@ -48,7 +48,7 @@ def test_assumptions_are_satisfiable_from_an_initial_state(prop):
     """A proof under contradictory assumptions would be vacuous: each property's assumptions admit a first step."""
     import z3
 
-    from atcs.proofs.system import Unrolling
+    from atcs.proofs.engine.system import Unrolling
 
     u = Unrolling(prop)
     solver = z3.Solver()

@@ -8,7 +8,7 @@ pytest_plugins = ["pytester"]
 BROKEN = '''
 import dataclasses
 
-from atcs.proofs.mutants import mutant_property
+from atcs.proofs.mutation.mutants import mutant_property
 from atcs.properties import PROPERTIES
 
 # the EB command compares the speed with the EBI plus 1 m/s (tests/test_supervision.py's mutant)

@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.resources import HELD, RESOURCES, ResourceInputs, ResourceState
-from atcs.proofs.mutants import falsify
+from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES, select
 from atcs.sim.monitor import Monitor
 

@@ -18,9 +18,9 @@ from atcs.model.closed_loop import atp_cycle
 from atcs.model.ops.exact import EXACT
 from atcs.model.separation import TWO_TRAINS, TwoTrainInputs, TwoTrainParams, TwoTrainState
 from atcs.model.train_data import seed000_train, subset026_national
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import falsify, patched
-from atcs.proofs.trace import from_json, replay, reproduce, to_json
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import falsify, patched
+from atcs.proofs.cex.trace import from_json, replay, reproduce, to_json
 from atcs.properties import select
 from atcs.properties.closed_loop import PRESETS, preset_data
 from atcs.properties.separation import separation_properties

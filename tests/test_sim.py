@@ -10,7 +10,7 @@ import pytest
 
 from atcs.model.authority import AUTHORITY
 from atcs.proofs.cli import main
-from atcs.proofs.mutants import mutant_node
+from atcs.proofs.mutation.mutants import mutant_node
 from atcs.sim import simulator
 from atcs.sim.monitor import PropertyViolation
 from atcs.sim.plots import run_plots

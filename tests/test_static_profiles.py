@@ -16,9 +16,9 @@ from atcs.model.ops.exact import EXACT
 from atcs.model.profile import Profile, ProfileError, gradient_profile, lowest_under_train, speed_profile, value_at
 from atcs.model.psl import filter_convex_bumps, permanent_speed_limit
 from atcs.model.restrictions import SpeedRestrictions, canonical, restriction
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import patched
-from atcs.proofs.trace import replay, reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import patched
+from atcs.proofs.cex.trace import replay, reproduce
 from atcs.properties import PROPERTIES, select
 
 

@@ -9,7 +9,7 @@ from atcs.model import authority, curves, dynamic_profile, position
 from atcs.model.curves import CEILING_OFFSET, CeilingOffsetParams, CeilingOffsetQuery, ceiling_offset_mps
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
-from atcs.proofs.mutants import falsify
+from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES, sub_functions
 
 SUB_FUNCTION_PROPERTIES = list(sub_functions.PROPERTIES)

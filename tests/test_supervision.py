@@ -15,9 +15,9 @@ from hypothesis import strategies as st
 from hypothesis.stateful import RuleBasedStateMachine, initialize, invariant, rule
 
 from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState, supervise
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import mutant_property
-from atcs.proofs.trace import from_json, replay, reproduce, to_json
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import mutant_property
+from atcs.proofs.cex.trace import from_json, replay, reproduce, to_json
 from atcs.properties import PROPERTIES, select
 from atcs.sim.monitor import Monitor, PropertyViolation
 

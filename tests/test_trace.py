@@ -8,9 +8,9 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from atcs.model.supervision import supervise
-from atcs.proofs.engine import prove
-from atcs.proofs.mutants import mutant_property
-from atcs.proofs.trace import ReplayError, TraceFileError, format_value, from_json, replay, reproduce, to_csv, to_json
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import mutant_property
+from atcs.proofs.cex.trace import ReplayError, TraceFileError, format_value, from_json, replay, reproduce, to_csv, to_json
 from atcs.properties import PROPERTIES
 
 NAME = "supervision.eb_latched_until_standstill"

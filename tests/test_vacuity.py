@@ -7,9 +7,9 @@ import json
 import z3
 
 from atcs.proofs.cli import main
-from atcs.proofs.engine import prove
-from atcs.proofs.trace import replay
-from atcs.proofs.vacuity import WITNESS_DEPTH, antecedents
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.cex.trace import replay
+from atcs.proofs.engine.vacuity import WITNESS_DEPTH, antecedents
 from atcs.properties import PROPERTIES, Assumption
 
 EB_ABOVE_EBI = PROPERTIES["supervision.eb_above_ebi"]

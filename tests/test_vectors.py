@@ -11,12 +11,13 @@ import z3
 from atcs.model import NODES
 from atcs.model.doors import DOOR_ENABLE
 from atcs.model.supervision import SUPERVISION
-from atcs.proofs import vector_files, vector_verify
+from atcs.proofs.vectors import files as vector_files
+from atcs.proofs.vectors import verify as vector_verify
 from atcs.proofs.cli import main
-from atcs.proofs.coverage import StepFrame, boundaries, conditions, decisions
-from atcs.proofs.mutants import mutant_node
-from atcs.proofs.vector_files import read
-from atcs.proofs.vectors import Vector, expected, generate
+from atcs.proofs.vectors.goals import StepFrame, boundaries, conditions, decisions
+from atcs.proofs.mutation.mutants import mutant_node
+from atcs.proofs.vectors.files import read
+from atcs.proofs.vectors.generate import Vector, expected, generate
 from atcs.properties import PROPERTIES
 
 IMPL = Path(__file__).parent / "impl" / "supervision_impl.py"

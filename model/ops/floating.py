@@ -7,19 +7,36 @@ and arrays mix by broadcasting. Used by the simulator and the benchmarks.
 from __future__ import annotations
 
 import dataclasses
+import sys
 from fractions import Fraction
 from functools import reduce
 
-import numpy as np
-
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
 
-_ARRAY = np.ndarray
+_SCALARS = frozenset({float, int, bool})
+
+
+class _LoadedNumpy:
+    """numpy, looked up when an array is at hand (so its caller has imported it)."""
+
+    def __getattr__(self, name):
+        return getattr(sys.modules["numpy"], name)
+
+
+np = _LoadedNumpy()
+
+
+def _is_array(value) -> bool:
+    """A numpy array (numpy is not imported here: an array exists only once its caller imported it)."""
+    if type(value) in _SCALARS:
+        return False
+    numpy = sys.modules.get("numpy")
+    return numpy is not None and isinstance(value, numpy.ndarray)
 
 
 def _any_array(*values) -> bool:
     for v in values:  # noqa: SIM110 - a loop is faster than any() over a generator, and this runs millions of times
-        if isinstance(v, _ARRAY):
+        if _is_array(v):
             return True
     return False
 
@@ -44,7 +61,7 @@ class FloatOps:
         return bool(value)
 
     def ite(self, cond, then, else_):
-        if isinstance(cond, _ARRAY) or isinstance(then, _ARRAY) or isinstance(else_, _ARRAY):
+        if _is_array(cond) or _is_array(then) or _is_array(else_):
             return np.where(cond, then, else_)
         return then if cond else else_
 
@@ -69,7 +86,7 @@ class FloatOps:
         return any(args)
 
     def not_(self, arg):
-        if isinstance(arg, _ARRAY):
+        if _is_array(arg):
             return np.logical_not(arg)
         return not arg
 
@@ -77,7 +94,7 @@ class FloatOps:
         return self.or_(self.not_(antecedent), consequent)
 
     def eq(self, left, right):
-        if isinstance(left, _ARRAY) or isinstance(right, _ARRAY):
+        if _is_array(left) or _is_array(right):
             return np.equal(left, right)
         return bool(left == right)
 

@@ -16,6 +16,7 @@ from fractions import Fraction
 
 import z3
 
+from atcs.model.errors import AtcsError
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction
 
 _contexts: list[z3.Context | None] = [None]
@@ -37,7 +38,7 @@ def fresh_context() -> Iterator[z3.Context]:
         _contexts.pop()
 
 
-class SymbolicValueError(TypeError):
+class SymbolicValueError(AtcsError, TypeError):
     """A symbolic value was used where Python needs a concrete one (``if``, ``==``, ``and`` ...)."""
 
 

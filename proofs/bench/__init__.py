@@ -1,0 +1,198 @@
+"""Benchmarks: measured side by side in one run, reported as ratios (never as timed unit tests).
+
+``BENCHMARKS`` registers them by name for ``atcs bench [NAME]``.
+"""
+
+from __future__ import annotations
+
+import statistics
+import time
+from collections.abc import Callable
+from fractions import Fraction
+
+import numpy as np
+from rich.console import Console
+from rich.table import Table
+
+from atcs.model.node import as_dict
+from atcs.model.ops.exact import EXACT
+from atcs.model.ops.floating import FLOAT
+from atcs.model.profile import KMH_PER_MPS, Profile, speed_profile, value_at
+from atcs.model.psl import Restriction, permanent_speed_limit, restricted
+from atcs.model.restrictions import SpeedRestrictions, as_float, canonical
+from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
+from atcs.proofs.bench.cycle import bench_cycle
+from atcs.proofs.bench.sim import bench_sim
+
+CYCLE_S = 0.1  # one ATP cycle (seed 001)
+
+
+def _median_time(fn: Callable[[], object], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times)
+
+
+def _supervision_inputs(trains: int, rng: np.random.Generator):
+    permitted = rng.uniform(0, 25, trains)
+    warning = permitted + rng.uniform(0, 1.5, trains)
+    sbi = warning + rng.uniform(0, 1.5, trains)
+    ebi = sbi + rng.uniform(0, 1.5, trains)
+    speed = rng.uniform(0, 30, trains)
+    return SupervisionInputs(
+        speed_mps=speed, permitted_mps=permitted, warning_mps=warning, sbi_mps=sbi, ebi_mps=ebi,
+        standstill=speed < 0.1, eb_release=rng.random(trains) < 0.5, position_valid=rng.random(trains) < 0.99,
+    )
+
+
+def bench_supervision(console: Console, trains: int = 1000, repeats: int = 7) -> dict[str, float]:
+    """One supervision cycle for a fleet: numpy batch vs scalar float loop vs exact Fractions."""
+    rng = np.random.default_rng(20261122)
+    batch = _supervision_inputs(trains, rng)
+    fields = list(SUPERVISION.sorts("inputs"))
+    scalars = [SupervisionInputs(**{f: getattr(batch, f)[t].item() for f in fields}) for t in range(trains)]
+    exacts = [
+        SupervisionInputs(**{f: (Fraction(v) if isinstance(v, float) else v) for f, v in as_dict(x).items()})
+        for x in scalars
+    ]
+    params_batch = SupervisionParams(service_brake_fitted=True)
+    state_batch = SupervisionState(eb_latched=np.zeros(trains, bool), sb_latched=np.zeros(trains, bool))
+    state_one = SupervisionState(eb_latched=False, sb_latched=False)
+    step = SUPERVISION.step
+
+    def numpy_batch():
+        step(FLOAT, params_batch, state_batch, batch)
+
+    def float_loop():
+        for i in scalars:
+            step(FLOAT, params_batch, state_one, i)
+
+    def exact_loop():
+        for i in exacts:
+            step(EXACT, params_batch, state_one, i)
+
+    # the three runs agree (the benchmark measures the same computation three ways)
+    _, out = step(FLOAT, params_batch, state_batch, batch)
+    for t in (0, trains // 2, trains - 1):
+        assert bool(out.emergency_brake[t]) == step(EXACT, params_batch, state_one, exacts[t])[1].emergency_brake
+
+    t_batch = _median_time(numpy_batch, repeats)
+    t_float = _median_time(float_loop, repeats)
+    t_exact = _median_time(exact_loop, repeats)
+    table = Table(title=f"bench supervision: one cycle for {trains} trains (median of {repeats})")
+    for col in ("backend", "per cycle (ms)", "per train (µs)", "share of 100 ms cycle", "vs numpy batch"):
+        table.add_column(col, justify="left" if col == "backend" else "right")
+    rows = (("float, numpy batch", t_batch), ("float, scalar loop", t_float), ("exact, Fraction loop", t_exact))
+    for name, t in rows:
+        table.add_row(name, f"{t * 1e3:.3f}", f"{t / trains * 1e6:.2f}", f"{t / CYCLE_S:.2%}", f"{t / t_batch:.1f}x")
+    console.print(table)
+    return {"numpy_batch_s": t_batch, "float_loop_s": t_float, "exact_loop_s": t_exact}
+
+
+# --- MRSP: seed 002's incremental restriction update against full recomputations ----------------
+
+SEED002_LINE_M = 56_800
+SEED002_TRAIN_M = 200.0
+
+
+def synthetic_line(line_m: int, rng: np.random.Generator) -> tuple[Profile, Profile]:
+    """A seed 002-like line: PISL changing every 300 to 700 m between 40 and 80 km/h, PTSL 80 km/h."""
+    starts = [0]
+    while starts[-1] + 700 < line_m:
+        starts.append(starts[-1] + int(rng.integers(300, 701)))
+    limits = [int(v) for v in rng.choice([40, 50, 60, 70, 80], size=len(starts))]
+    pisl = speed_profile("PISL", starts, limits, line_m)
+    ptsl = speed_profile("PTSL", [0], [80], line_m)
+    return as_float(pisl), as_float(ptsl)
+
+
+def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -> np.ndarray:
+    """Seed 001 §3.3's array formulation: ``vSP[i]`` per metre (the lowest profile), then
+    ``MRSP[i] = min(vSP[i - L .. i])``, the window minimum by a sparse table (O(n log L), numpy)."""
+    line_m = int(pisl.end_m)
+    metres = np.arange(line_m)
+    vsp = np.full(line_m, np.inf)
+    for p in (pisl, ptsl):
+        index = np.searchsorted(np.asarray(p.starts_m), metres, side="right") - 1
+        vsp = np.minimum(vsp, np.asarray(p.values)[index])
+    for r in restrictions:
+        vsp[int(r.start_m):int(r.end_m)] = np.minimum(vsp[int(r.start_m):int(r.end_m)], r.limit_mps)
+    width = int(train_m) + 1
+    table = np.concatenate([np.full(width - 1, np.inf), vsp])
+    span = 1
+    while span * 2 <= width:
+        table = np.minimum(table[:-span], table[span:])
+        span *= 2
+    return np.minimum(table[:line_m], table[width - span:width - span + line_m])
+
+
+def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
+    """Apply and withdraw a 30 km/h restriction on the seed 002 line and on a line 10x longer: the
+    incremental window update against whole-line recomputations (float backend, same step functions)."""
+    rng = np.random.default_rng(20261122)
+    train_m = SEED002_TRAIN_M
+    results: dict[str, float] = {}
+    rows: dict[str, list[float]] = {}
+    sizes = []
+    for scale in (1, 10):
+        line_m = SEED002_LINE_M * scale
+        pisl, ptsl = synthetic_line(line_m, rng)
+        tsr = Restriction(line_m / 2, line_m / 2 + 500.0, float(30 / KMH_PER_MPS))
+        store = SpeedRestrictions(pisl, ptsl, train_m, FLOAT)
+        psl = store.psl
+        sizes.append((line_m, len(pisl.starts_m), len(psl.starts_m)))
+
+        def incremental(store=store, tsr=tsr):
+            store.apply("tsr", tsr)
+            store.withdraw("tsr")
+
+        def full_from_psl(psl=psl, tsr=tsr):
+            canonical(restricted(FLOAT, psl, (tsr,), train_m))
+            canonical(restricted(FLOAT, psl, (), train_m))
+
+        def from_scratch(pisl=pisl, ptsl=ptsl, tsr=tsr):
+            for active in ((tsr,), ()):
+                canonical(restricted(FLOAT, permanent_speed_limit(FLOAT, pisl, ptsl, train_m), active, train_m))
+
+        def per_metre(pisl=pisl, ptsl=ptsl, tsr=tsr):
+            per_metre_mrsp(pisl, ptsl, (tsr,), train_m)
+            per_metre_mrsp(pisl, ptsl, (), train_m)
+
+        # the four compute the same MRSP (compared at every metre, with the restriction applied)
+        store.apply("tsr", tsr)
+        assert store.mrsp() == canonical(restricted(FLOAT, psl, (tsr,), train_m))
+        sampled = value_at(FLOAT, store.mrsp(), np.arange(line_m, dtype=float))
+        assert np.array_equal(sampled, per_metre_mrsp(pisl, ptsl, (tsr,), train_m))
+        store.withdraw("tsr")
+
+        for name, fn, reps in (
+            ("incremental window update (seed 002)", incremental, repeats * 20),
+            ("full recomputation from the stored PSL", full_from_psl, repeats),
+            ("recomputation from PISL and PTSL", from_scratch, max(1, repeats // 2)),
+            ("per-metre arrays, numpy (seed 001)", per_metre, repeats),
+        ):
+            seconds = _median_time(fn, reps)
+            rows.setdefault(name, []).append(seconds)
+            results[f"{name} @ {scale}x"] = seconds
+
+    title = ", ".join(f"{line_m / 1000:g} km: {pisl_n} PISL / {psl_n} PSL segments" for line_m, pisl_n, psl_n in sizes)
+    table = Table(title=f"bench mrsp: apply + withdraw a 30 km/h restriction (500 m, 200 m train), median ms\n{title}")
+    table.add_column("method")
+    for line_m, _, _ in sizes:
+        table.add_column(f"{line_m / 1000:g} km", justify="right")
+    table.add_column("10x line", justify="right")
+    table.add_column("/ incremental", justify="right")
+    base = rows["incremental window update (seed 002)"]
+    for name, (t1, t10) in rows.items():
+        table.add_row(name, f"{t1 * 1e3:.3f}", f"{t10 * 1e3:.3f}", f"{t10 / t1:.1f}x",
+                      f"{t1 / base[0]:.0f}x / {t10 / base[1]:.0f}x")
+    console.print(table)
+    return results
+
+
+BENCHMARKS: dict[str, Callable[[Console], object]] = {
+    "supervision": bench_supervision, "mrsp": bench_mrsp, "cycle": bench_cycle, "sim": bench_sim,
+}

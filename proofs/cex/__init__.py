@@ -1,0 +1,3 @@
+"""Counterexamples: the trace file and its exact replay (:mod:`.trace`), the float replay (:mod:`.float_replay`),
+the fewest-input-changes search (:mod:`.smoothing`), and the waveform (:mod:`.vcd`) and plot (:mod:`.plot`)
+written next to each."""

@@ -1,0 +1,148 @@
+"""What every command shares: the parser, argument types, the consoles, the progress display, output-path checks,
+the property selection and the exit codes (DESIGN.md).
+
+Exit codes: 0 everything asked for holds, 1 a verdict against (falsified, disagreement, a surviving mutant, a
+failed vector or check), 2 bad input (:class:`~atcs.model.errors.AtcsInputError`, one line naming the option or
+file, the field and the value), 3 incomplete (unknown, error, time-out) with nothing against; ``replay`` adds 4.
+"""
+
+from __future__ import annotations
+
+import argparse
+import fnmatch
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+from rich.console import Console
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+from atcs.model.errors import AtcsInputError
+
+EXIT_OK, EXIT_FALSIFIED, EXIT_USAGE, EXIT_UNKNOWN = 0, 1, 2, 3
+
+
+def exit_code(*, against: bool, incomplete: bool) -> int:
+    """1 if any verdict is against, else 3 if any is incomplete, else 0."""
+    if against:
+        return EXIT_FALSIFIED
+    return EXIT_UNKNOWN if incomplete else EXIT_OK
+
+
+class UsageError(AtcsInputError):
+    """Bad command-line input, its message already naming the command: printed as one line, exit code 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, not argparse's usage block
+        command = self.prog.removeprefix("atcs").strip()
+        raise UsageError(f"{command}: {message}" if command else message)
+
+
+def positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds, got {text!r}") from None
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number of seconds, got {text!r}")
+    return value
+
+
+def positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return value
+
+
+def tolerance(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not 0 <= value < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
+    return value
+
+
+def add_only(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--only", metavar="PATTERN", action="append",
+                        help="glob over property names, e.g. 'supervision.*'; repeatable (the properties any matches)")
+
+
+def add_jobs(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--jobs", metavar="N", type=positive_int, default=1, help="worker processes (default 1)")
+
+
+def selected_properties(command: str, patterns: list[str] | None) -> list:
+    """The registered properties any ``--only`` glob selects (all without one); a glob that matches no
+    property is a usage error."""
+    from atcs.properties import PROPERTIES, select
+
+    if not patterns:
+        return select()
+    chosen: set[str] = set()
+    for pattern in patterns:
+        props = select(pattern)
+        if not props:
+            modules = sorted({p.module for p in PROPERTIES.values()})
+            raise UsageError(f"{command}: --only {pattern!r} matches no property (modules: {', '.join(modules)})")
+        chosen.update(p.name for p in props)
+    return [p for name, p in PROPERTIES.items() if name in chosen]
+
+
+def matching(names, patterns: list[str]) -> list[str]:
+    """The ``names`` any of the globs ``patterns`` matches, in order."""
+    return [n for n in names if any(fnmatch.fnmatchcase(n, p) for p in patterns)]
+
+
+def check_outputs(*, files: dict[str, str | None] = (), dirs: dict[str, str | None] = ()) -> None:
+    """Fail before any work starts if an output file or directory (by option; None: not asked for) cannot be
+    written (:class:`~atcs.proofs.files.OutputPathError`)."""
+    from atcs.proofs.files import check_writable_dir, check_writable_file
+
+    for option, path in dict(files).items():
+        if path is not None:
+            check_writable_file(option, path)
+    for option, path in dict(dirs).items():
+        if path is not None:
+            check_writable_dir(option, path)
+
+
+@contextmanager
+def reraised(prefix: str, *errors: type[Exception]) -> Iterator[None]:
+    """Errors of these types (the input given by one option) as a :class:`UsageError` starting ``prefix``."""
+    try:
+        yield
+    except errors as exc:
+        raise UsageError(f"{prefix}{exc}") from None
+
+
+@dataclass
+class Bar:
+    """A progress bar on a terminal; in a log (not a terminal), ``done`` also prints one line per item."""
+
+    progress: Progress
+    task: int
+    console: Console
+
+    def done(self, what: str, log_line: str | None = None) -> None:
+        """One item finished: the bar shows ``what``; a log gets ``log_line`` (default ``what``)."""
+        self.progress.update(self.task, advance=1, description=what)
+        if not self.console.is_terminal:
+            print(log_line or what, file=self.console.file, flush=True)
+
+    def at(self, completed: int) -> None:
+        """Move the bar to ``completed`` items (no log line)."""
+        self.progress.update(self.task, completed=completed)
+
+
+@contextmanager
+def progress_bar(console: Console, description: str, total: int) -> Iterator[Bar]:
+    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    with Progress(*columns, console=console, transient=True) as progress:
+        yield Bar(progress, progress.add_task(description, total=total), console)

@@ -1,0 +1,155 @@
+"""``atcs certify``: write each proved property's certificate (SMT-LIB 2) and check it with z3 and cvc5.
+
+Exit code 0 every selected property certified, 1 a solver disagrees, 3 some property unconfirmed, not proved
+or in error (and none disagrees), 2 bad input.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+from rich.table import Table
+
+from atcs.proofs.cli._common import (
+    UsageError,
+    add_jobs,
+    add_only,
+    check_outputs,
+    exit_code,
+    matching,
+    positive_float,
+    positive_int,
+    progress_bar,
+    reraised,
+    selected_properties,
+)
+
+STYLE = {"certified": "green", "unconfirmed": "yellow", "disagreement": "bold red", "error": "bold magenta",
+         "not proved": "yellow"}
+
+
+def add_parser(subparsers) -> None:
+    f = subparsers.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it "
+                              "with z3 and cvc5")
+    add_only(f)
+    f.add_argument("--report", metavar="FILE", help="take the proofs' depths from this atcs prove --json report "
+                   "(default: prove first)")
+    f.add_argument("--dir", metavar="DIR", default="certificates",
+                   help="where the scripts and certificates.json are written (default ./certificates)")
+    f.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=600.0,
+                   help="per-property limit of the proving, and per-check limit of each solver that has no "
+                   "limit of its own (default 600)")
+    for solver in ("z3", "cvc5"):
+        f.add_argument(f"--{solver}-timeout", metavar="SECONDS", type=positive_float, default=None,
+                       help=f"per-check time limit of {solver}; past it the check is unknown (default --timeout)")
+    f.add_argument("--cvc5-rlimit", metavar="UNITS", type=positive_int, default=None,
+                   help="also bound each cvc5 check by this many of its resource units (rlimit-per): the same "
+                   "verdict on any machine; past it the check is unknown (default: no bound)")
+    f.add_argument("--z3-only", metavar="PATTERN[,PATTERN...]", default=None,
+                   help="globs over property names: check these with z3 alone (cvc5 is not asked; they stay "
+                   "unconfirmed)")
+    add_jobs(f)
+    f.set_defaults(run=run)
+
+
+def run(args, out, err) -> int:
+    from atcs.proofs.certify import campaign
+    from atcs.proofs.files import write_atomic
+    from atcs.properties import PROPERTIES
+
+    props = selected_properties("certify", args.only)
+    check_outputs(dirs={"--dir": args.dir})
+    z3_only = _z3_only(args.z3_only, PROPERTIES)
+    start = time.monotonic()
+    needed = {lemma for p in props for lemma in _lemma_closure(p, PROPERTIES)}
+    wanted = [*props, *(PROPERTIES[n] for n in sorted(needed - {p.name for p in props}))]
+    if args.report is not None:
+        with reraised("certify: --report ", campaign.ProveReportError):
+            depths = campaign.depths_from_report(args.report)
+    else:
+        depths = _prove_depths(wanted, args, err)
+    results = {}
+    limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
+    with progress_bar(err, "certifying", sum(p.name in depths for p in wanted)) as bar:
+        for c in campaign.run(wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit,
+                              z3_only=z3_only):
+            results[c.name] = c
+            bar.done(f"certifying {c.name}")
+    campaign.settle(results, depths)
+    wall = time.monotonic() - start
+
+    directory = Path(args.dir)
+    directory.mkdir(parents=True, exist_ok=True)
+    records = []
+    for prop in props:
+        c = results.get(prop.name)
+        if c is None:
+            records.append({"name": prop.name, "requirement": prop.requirement, "k": None, "lemmas": list(prop.lemmas),
+                            "status": campaign.CertificateStatus.NOT_PROVED, "confirmed_by": [],
+                            "message": "no proof to certify", "checks": []})
+            continue
+        (directory / prop.name).mkdir(parents=True, exist_ok=True)
+        for ob in c.obligations:
+            write_atomic(directory / prop.name / f"{ob.check}.smt2", ob.script)
+        records.append(campaign.record(c, directory))
+    counts = {s: sum(r["status"] == s for r in records) for s in STYLE}
+    write_atomic(directory / "certificates.json", json.dumps(
+        {"tool": "atcs certify", "solvers": list(campaign.SOLVERS), "solver_versions": campaign.solver_versions(),
+         "timeout_s": args.timeout, "solver_timeout_s": limits,
+         "cvc5_resource_limit": args.cvc5_rlimit,
+         "z3_only": sorted(z3_only & {p.name for p in wanted}), "wall_s": round(wall, 3), "summary": counts,
+         "properties": records},
+        indent=2) + "\n")
+    _print(out, records, wall, directory)
+    return exit_code(against=counts["disagreement"] > 0, incomplete=counts["certified"] != len(records))
+
+
+def _prove_depths(wanted: list, args, err) -> dict[str, int]:
+    """The depth of each property ``wanted`` that the prover proves now."""
+    from atcs.proofs.engine import suite
+
+    depths = {}
+    with progress_bar(err, "proving", len(wanted)) as bar:
+        for result in suite.run(wanted, timeout_s=args.timeout, jobs=args.jobs):
+            if result.status == "proved":
+                depths[result.name] = result.k
+            bar.done(f"proving {result.name}: {result.status}")
+    return depths
+
+
+def _print(out, records: list[dict], wall_s: float, directory: Path) -> None:
+    table = Table(title=f"atcs certify: {len(records)} properties in {wall_s:.2f} s ({directory})")
+    for heading in ("property", "requirement", "k", "checks", "confirmed by", "status"):
+        table.add_column(heading, justify="right" if heading == "k" else "left")
+    for r in records:
+        table.add_row(r["name"], r["requirement"], "" if r["k"] is None else str(r["k"]), str(len(r["checks"])),
+                      ", ".join(r["confirmed_by"]) or "none", f"[{STYLE[r['status']]}]{r['status']}[/]")
+    out.print(table)
+    for r in records:
+        if r["status"] != "certified":
+            out.print(f"[{STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}")
+
+
+def _z3_only(patterns: str | None, registry) -> set[str]:
+    """The properties ``--z3-only`` names; a glob that matches none is a usage error."""
+    names: set[str] = set()
+    for pattern in [] if patterns is None else patterns.split(","):
+        matched = set(matching(registry, [pattern.strip()]))
+        if not matched:
+            raise UsageError(f"certify: --z3-only {pattern.strip()!r} matches no property")
+        names |= matched
+    return names
+
+
+def _lemma_closure(prop, registry) -> set[str]:
+    """Every lemma ``prop`` rests on, directly or through other lemmas."""
+    seen: set[str] = set()
+    todo = list(prop.lemmas)
+    while todo:
+        name = todo.pop()
+        if name not in seen and name in registry:
+            seen.add(name)
+            todo.extend(registry[name].lemmas)
+    return seen

@@ -1,0 +1,90 @@
+"""``atcs prove``: prove the registered properties; a table, the JSON and JUnit reports, counterexample files.
+
+Exit code 0 all proved, 1 some property falsified, 3 some vacuous, unknown or in error and none falsified (an
+``error`` verdict is never a pass), 2 bad input.
+"""
+
+from __future__ import annotations
+
+import time
+
+from rich.table import Table
+
+from atcs.proofs.cli._common import (
+    add_jobs,
+    add_only,
+    check_outputs,
+    exit_code,
+    positive_float,
+    progress_bar,
+    selected_properties,
+)
+
+STYLE = {"proved": "green", "vacuous": "yellow", "falsified": "bold red", "unknown": "yellow", "error": "bold magenta"}
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("prove", help="prove the registered safety properties")
+    add_only(p)
+    p.add_argument("--json", metavar="FILE", help="write the JSON report here")
+    p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
+    p.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=600.0,
+                   help="per-property time limit, lemmas included; past it the verdict is unknown (default 600)")
+    add_jobs(p)
+    p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
+                   help="where counterexamples are written as JSON, CSV, VCD and PNG (default ./counterexamples)")
+    p.add_argument("--witness-dir", metavar="DIR", default=None,
+                   help="also write each proved property's witness runs (its assumptions and every implication's "
+                   "condition reached) here as JSON")
+    p.add_argument("--smooth", action="store_true",
+                   help="make each counterexample one with the fewest input changes (same length; the time left "
+                   "within --timeout; the count before and after is in the reports)")
+    p.set_defaults(run=run)
+
+
+def run(args, out, err) -> int:
+    from atcs.proofs import report
+    from atcs.proofs.engine import suite
+    from atcs.proofs.files import write_atomic
+
+    props = selected_properties("prove", args.only)
+    check_outputs(files={"--json": args.json, "--junit": args.junit},
+                  dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir})
+    start = time.monotonic()
+    results = {}
+    with progress_bar(err, "proving", len(props)) as bar:
+        for result in suite.run(props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth):
+            results[result.name] = result
+            bar.done(f"{result.name}: {result.status}", f"{result.status} {result.name} ({result.seconds:.1f} s)")
+    wall = time.monotonic() - start
+
+    records = []
+    for prop in props:
+        result = results[prop.name]
+        cex = None
+        if result.trace is not None and result.replay is not None:
+            cex = str(report.write_counterexample(args.cex_dir, prop, result))
+        if args.witness_dir is not None and result.witnesses:
+            report.write_witnesses(args.witness_dir, prop, result)
+        records.append(report.result_record(prop, result, cex))
+    _print(out, records, wall)
+    if args.json:
+        write_atomic(args.json, report.json_report(records, timeout_s=args.timeout, wall_s=wall))
+    if args.junit:
+        write_atomic(args.junit, report.junit_report(records, wall_s=wall))
+    statuses = {r["status"] for r in records}
+    return exit_code(against="falsified" in statuses, incomplete=bool(statuses & {"vacuous", "unknown", "error"}))
+
+
+def _print(out, records: list[dict], wall_s: float) -> None:
+    table = Table(title=f"atcs prove: {len(records)} properties in {wall_s:.2f} s")
+    for heading in ("property", "requirement", "status", "engine", "k", "seconds"):
+        table.add_column(heading, justify="right" if heading in ("k", "seconds") else "left")
+    for r in records:
+        table.add_row(r["name"], r["requirement"], f"[{STYLE[r['status']]}]{r['status']}[/]", r["engine"] or "",
+                      "" if r["k"] is None else str(r["k"]), f"{r['seconds']:.3f}")
+    out.print(table)
+    for r in records:
+        if r["status"] != "proved":
+            out.print(f"[{STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}"
+                      + (f" (counterexample: {r['counterexample']})" if r["counterexample"] else ""))

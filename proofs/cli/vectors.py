@@ -1,0 +1,174 @@
+"""``atcs vectors generate | verify | check``: certified test vectors of each step function.
+
+Exit codes: ``generate`` 0 every goal settled (covered or shown infeasible), 3 some unknown; ``verify`` 0 every
+file verified, 1 a problem; ``check`` 0 every vector passed, 1 one failed or the implementation stopped; all 2
+for bad input.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from rich.table import Table
+
+from atcs.proofs.cli._common import (
+    EXIT_FALSIFIED,
+    EXIT_OK,
+    EXIT_UNKNOWN,
+    Parser,
+    UsageError,
+    add_jobs,
+    check_outputs,
+    positive_float,
+    reraised,
+    tolerance,
+)
+
+
+def add_parser(subparsers) -> None:
+    v = subparsers.add_parser("vectors", help="certified test vectors of each step function: generate, verify, "
+                              "check an implementation")
+    vsub = v.add_subparsers(dest="vectors_command", required=True, parser_class=Parser)
+    g = vsub.add_parser("generate", help="find vectors covering requirements, boundaries and MC/DC with z3")
+    g.add_argument("--function", metavar="NAME", action="append",
+                   help="a function (node) of the model; repeat for several (default: every one)")
+    g.add_argument("--out", metavar="DIR", default="vectors", help="where the files go (default ./vectors)")
+    g.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=10.0,
+                   help="per solver query; past it the goal is unknown (default 10)")
+    g.add_argument("--budget", metavar="SECONDS", type=positive_float, default=1800.0,
+                   help="per function; goals past it are unknown (default 1800)")
+    add_jobs(g)
+    g.set_defaults(run=generate)
+    y = vsub.add_parser("verify", help="re-check vector files against the model (hashes, symbolic and exact)")
+    y.add_argument("dir", metavar="DIR")
+    y.set_defaults(run=verify)
+    k = vsub.add_parser("check", help="run an external implementation over the vectors (JSON lines)")
+    k.add_argument("dir", metavar="DIR")
+    k.add_argument("--impl", metavar="COMMAND", required=True,
+                   help="the implementation's command line: one JSON request per line in, one answer per line out")
+    k.add_argument("--function", metavar="NAME", action="append", help="only this function's file (repeatable)")
+    k.add_argument("--rel-tol", metavar="X", type=tolerance, default=1e-9,
+                   help="relative tolerance for numbers answered as JSON numbers (default 1e-9)")
+    k.add_argument("--abs-tol", metavar="X", type=tolerance, default=1e-9,
+                   help="absolute tolerance for numbers answered as JSON numbers (default 1e-9)")
+    k.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=10.0,
+                   help="how long to wait for each answer (default 10)")
+    k.set_defaults(run=check)
+
+
+def _functions(command: str, names: list[str] | None) -> list[str]:
+    from atcs.model import NODES
+
+    for name in names or ():
+        if name not in NODES:
+            raise UsageError(f"vectors {command}: --function {name!r} is not a function of the model "
+                             f"(functions: {', '.join(NODES)})")
+    return list(dict.fromkeys(names)) if names else list(NODES)
+
+
+def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float):
+    """One function's vectors, written to ``out_dir`` (module level: a worker process runs it)."""
+    from atcs.model import NODES
+    from atcs.proofs.vectors import files
+    from atcs.proofs.vectors.generate import generate as generate_vectors
+    from atcs.properties import PROPERTIES
+
+    node = NODES[name]
+    fv = generate_vectors(node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s,
+                          budget_s=budget_s)
+    files.write(out_dir, fv)
+    return name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds
+
+
+def generate(args, out, err) -> int:
+    from concurrent.futures import ProcessPoolExecutor
+
+    names = _functions("generate", args.function)
+    check_outputs(dirs={"--out": args.out})
+    start = time.monotonic()
+    jobs = [(n, args.out, args.timeout, args.budget) for n in names]
+    if args.jobs == 1:
+        rows = [_generate_one(*job) for job in jobs]
+    else:
+        with ProcessPoolExecutor(args.jobs) as pool:
+            rows = list(pool.map(_generate_one, *zip(*jobs, strict=True)))
+    table = Table(title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s "
+                  f"({args.out})")
+    for heading in ("function", "vectors", "requirements", "boundaries", "MC/DC", "not covered", "seconds"):
+        table.add_column(heading, justify="left" if heading == "function" else "right")
+    incomplete = False
+    for name, count, cov, reqs, covered, seconds in rows:
+        def part(kind, cov=cov):
+            return f"{cov[kind]['covered']}/{cov[kind]['goals']}"
+
+        left = {s: sum(cov[k][s] for k in cov) for s in ("infeasible", "unknown")}
+        incomplete = incomplete or left["unknown"] > 0
+        table.add_row(name, str(count), f"{len(covered)}/{len(reqs)} ids, {part('requirement')}", part("boundary"),
+                      part("mcdc"), f"{left['infeasible']} infeasible, {left['unknown']} unknown", f"{seconds:.1f}")
+    out.print(table)
+    return EXIT_UNKNOWN if incomplete else EXIT_OK
+
+
+def _vector_files(command: str, directory: str, names: list[str] | None = None) -> list:
+    from atcs.proofs.vectors.files import VectorFileError, read
+
+    root = Path(directory)
+    if not root.is_dir():
+        raise UsageError(f"vectors {command}: {directory} is not a directory")
+    paths = sorted(root.glob("*.json"))
+    if names:
+        paths = [p for p in paths if p.stem in set(_functions(command, names))]
+    if not paths:
+        raise UsageError(f"vectors {command}: {directory} holds no vector file (<function>.json)")
+    if command == "verify":
+        return paths
+    with reraised(f"vectors {command}: ", VectorFileError):
+        return [read(p) for p in paths]
+
+
+def verify(args, out, err) -> int:
+    from atcs.proofs.vectors.files import VectorFileError
+    from atcs.proofs.vectors.verify import verify_file
+
+    with reraised("vectors verify: ", VectorFileError):
+        results = [verify_file(path) for path in _vector_files("verify", args.dir)]
+    table = Table(title=f"atcs vectors verify {args.dir}")
+    for heading in ("file", "function", "vectors", "verdict"):
+        table.add_column(heading)
+    for r in results:
+        table.add_row(r.path.name, r.function, str(r.vectors),
+                      "[green]verified[/]" if r.ok else f"[bold red]{len(r.problems)} problem(s)[/]")
+    out.print(table)
+    for r in results:
+        for problem in r.problems:
+            out.print(f"[bold red]{r.path.name}[/]: {problem}")
+    return EXIT_OK if all(r.ok for r in results) else EXIT_FALSIFIED
+
+
+def check(args, out, err) -> int:
+    from atcs.proofs.vectors.check import ImplementationError, ImplementationStartError
+    from atcs.proofs.vectors.check import check as check_implementation
+
+    files = _vector_files("check", args.dir, args.function)
+    try:
+        with reraised("vectors check: ", ImplementationStartError):
+            outcomes = check_implementation(files, args.impl, rel_tol=args.rel_tol, abs_tol=args.abs_tol,
+                                            timeout_s=args.timeout)
+    except ImplementationError as exc:
+        print(f"atcs: vectors check: {exc}", file=sys.stderr)
+        return EXIT_FALSIFIED
+    failed = [o for o in outcomes if not o.passed]
+    table = Table(title=f"atcs vectors check {args.dir} --impl {args.impl!r}")
+    for heading in ("function", "vectors", "passed", "failed"):
+        table.add_column(heading, justify="left" if heading == "function" else "right")
+    for vf in files:
+        mine = [o for o in outcomes if o.function == vf.node.name]
+        table.add_row(vf.node.name, str(len(mine)), str(sum(o.passed for o in mine)),
+                      str(sum(not o.passed for o in mine)))
+    out.print(table)
+    for o in failed:
+        out.print(f"[bold red]FAIL[/] {o.id} ({'; '.join(o.covers)}): {o.mismatch}")
+    out.print(f"{len(outcomes) - len(failed)} of {len(outcomes)} vectors passed")
+    return EXIT_FALSIFIED if failed else EXIT_OK

@@ -1,0 +1,44 @@
+"""Run many registered properties, in this process or in ``jobs`` worker processes."""
+
+from __future__ import annotations
+
+import multiprocessing
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+
+from atcs.proofs.engine.prove import Result, prove
+from atcs.properties import PROPERTIES, Property
+
+_proved_in_this_worker: dict[str, Result] = {}
+"""Lemma results in a worker process (workers are spawned afresh for each run)."""
+
+
+def _prove_registered(name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False
+                      ) -> Result:
+    proved = _proved_in_this_worker if proved is None else proved
+    result = proved.get(name) or prove(PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved,
+                                       smooth_cex=smooth)
+    proved[name] = result
+    return result
+
+
+def run(props: list[Property], *, timeout_s: float, jobs: int = 1,
+        on_start: Callable[[Property], None] = lambda p: None, smooth: bool = False) -> Iterator[Result]:
+    """Yield one result per registered property, in completion order; with ``smooth``, counterexamples are
+    smoothed (:mod:`atcs.proofs.cex.smoothing`)."""
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs!r}")
+    if jobs == 1 or len(props) == 1:
+        proved: dict[str, Result] = {}
+        for prop in props:
+            on_start(prop)
+            yield _prove_registered(prop.name, timeout_s, proved, smooth)
+        return
+    # spawn, not fork: z3 contexts must not be shared with a forked child
+    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        futures = {}
+        for prop in props:
+            on_start(prop)
+            futures[pool.submit(_prove_registered, prop.name, timeout_s, None, smooth)] = prop
+        for future in as_completed(futures):
+            yield future.result()
