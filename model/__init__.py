@@ -20,11 +20,34 @@ from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
 
-NODES: dict[str, Node] = {node.name: node for node in (SUPERVISION, MRSP, PSL, MRSP_UPDATE, DECELERATION, CURVES, PLANT,
-                                                         CLOSED_LOOP, POSITION, POSITION_LOOP, RESOURCES,
-                                                         AUTHORITY, TWO_TRAINS, DOOR_ENABLE, DCU, DOOR_LOOP,
-                                                         CEILING_OFFSET, STOPPING_POINT, TACHO_CHECK, ADHESION,
-                                                         GRADIENT_ACCELERATION, STEPPED_CURVES, MOST_RESTRICTIVE,
-                                                         EXCEEDANCES)}
+NODES: dict[str, Node] = {
+    node.name: node
+    for node in (
+        SUPERVISION,
+        MRSP,
+        PSL,
+        MRSP_UPDATE,
+        DECELERATION,
+        CURVES,
+        PLANT,
+        CLOSED_LOOP,
+        POSITION,
+        POSITION_LOOP,
+        RESOURCES,
+        AUTHORITY,
+        TWO_TRAINS,
+        DOOR_ENABLE,
+        DCU,
+        DOOR_LOOP,
+        CEILING_OFFSET,
+        STOPPING_POINT,
+        TACHO_CHECK,
+        ADHESION,
+        GRADIENT_ACCELERATION,
+        STEPPED_CURVES,
+        MOST_RESTRICTIVE,
+        EXCEEDANCES,
+    )
+}
 
 __all__ = ["NODES", "Node"]

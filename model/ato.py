@@ -88,12 +88,12 @@ def within_braking_distance(o: Ops, speed_mps, target_speed_mps, distance_m, pla
     """The target ``distance_m`` ahead is near: ``distance_m <= (v^2 - u^2) / (2 a) + margin_m``
     (multiplied out by ``2 a > 0``), or the target is at or behind the front."""
     braking = speed_mps * speed_mps - target_speed_mps * target_speed_mps
-    return o.or_(distance_m <= o.const(0),
-                 o.const(2) * planning_decel_mps2 * (distance_m - margin_m) <= braking)
+    return o.or_(distance_m <= o.const(0), o.const(2) * planning_decel_mps2 * (distance_m - margin_m) <= braking)
 
 
-def needs_at_least_the_deceleration_of(o: Ops, speed_mps, first_speed_mps, first_distance_m, second_speed_mps,
-                                       second_distance_m):
+def needs_at_least_the_deceleration_of(
+    o: Ops, speed_mps, first_speed_mps, first_distance_m, second_speed_mps, second_distance_m
+):
     """The first target needs at least the deceleration of the second: ``(v^2 - u1^2) / (2 d1) >=
     (v^2 - u2^2) / (2 d2)``, where a distance ``<= 0`` needs an infinite deceleration (seed 003 §2.1.2).
 
@@ -103,12 +103,23 @@ def needs_at_least_the_deceleration_of(o: Ops, speed_mps, first_speed_mps, first
     v2 = speed_mps * speed_mps
     first_needs = (v2 - first_speed_mps * first_speed_mps) * second_distance_m
     second_needs = (v2 - second_speed_mps * second_speed_mps) * first_distance_m
-    return o.or_(first_distance_m <= o.const(0),
-                 o.and_(second_distance_m > o.const(0), first_needs >= second_needs))
+    return o.or_(first_distance_m <= o.const(0), o.and_(second_distance_m > o.const(0), first_needs >= second_needs))
 
 
-def ato_target_speed(o: Ops, *, front_m, speed_mps, line_limit_mps, train_max_mps, next_limit_m, next_limit_mps,
-                     ma_end_m, ma_speed_mps, planning_decel_mps2, margin_m) -> AtoTarget:
+def ato_target_speed(
+    o: Ops,
+    *,
+    front_m,
+    speed_mps,
+    line_limit_mps,
+    train_max_mps,
+    next_limit_m,
+    next_limit_mps,
+    ma_end_m,
+    ma_speed_mps,
+    planning_decel_mps2,
+    margin_m,
+) -> AtoTarget:
     """The ATO's target speed and the rule that chose it (seed 003 §2.1, §2.2).
 
     - ``front_m``, ``speed_mps``: the train's front and (estimated) speed;
@@ -134,7 +145,7 @@ def ato_target_speed(o: Ops, *, front_m, speed_mps, line_limit_mps, train_max_mp
 
     So the target never exceeds ``cap``, and within the MA's braking distance it is at most the MA
     speed unless a speed limit nearer than the MA needs a larger deceleration (then its braking
-    pattern reaches the MA's location at or below the MA speed: tests/test_ato.py proves both with z3).
+    pattern reaches the MA's location at or below the MA speed: tests/model/test_ato.py proves both with z3).
 
     Concrete ``planning_decel_mps2`` and ``margin_m`` are validated (:class:`AtoError`); symbolic
     ones are the proof's business (:func:`ato_preconditions`).
@@ -149,16 +160,21 @@ def ato_target_speed(o: Ops, *, front_m, speed_mps, line_limit_mps, train_max_mp
 
     limit_near = o.or_(
         limit_distance_m <= o.const(0),
-        o.and_(speed_mps > limit_target_mps,
-               within_braking_distance(o, speed_mps, limit_target_mps, limit_distance_m, planning_decel_mps2,
-                                       margin_m)),
+        o.and_(
+            speed_mps > limit_target_mps,
+            within_braking_distance(o, speed_mps, limit_target_mps, limit_distance_m, planning_decel_mps2, margin_m),
+        ),
     )
     ma_near = within_braking_distance(o, speed_mps, ma_target_mps, ma_distance_m, planning_decel_mps2, margin_m)
-    ma_wins = o.and_(ma_near, o.or_(
-        o.not_(limit_near),
-        needs_at_least_the_deceleration_of(o, speed_mps, ma_target_mps, ma_distance_m, limit_target_mps,
-                                           limit_distance_m),
-    ))
+    ma_wins = o.and_(
+        ma_near,
+        o.or_(
+            o.not_(limit_near),
+            needs_at_least_the_deceleration_of(
+                o, speed_mps, ma_target_mps, ma_distance_m, limit_target_mps, limit_distance_m
+            ),
+        ),
+    )
     limit_wins = o.and_(limit_near, o.not_(ma_wins))
     return AtoTarget(
         speed_mps=o.ite(ma_wins, ma_target_mps, o.ite(limit_wins, limit_target_mps, cap_mps)),
@@ -167,8 +183,20 @@ def ato_target_speed(o: Ops, *, front_m, speed_mps, line_limit_mps, train_max_mp
     )
 
 
-def ato_preconditions(o: Ops, *, front_m, speed_mps, line_limit_mps, train_max_mps, next_limit_m, next_limit_mps,
-                      ma_end_m, ma_speed_mps, planning_decel_mps2, margin_m):
+def ato_preconditions(
+    o: Ops,
+    *,
+    front_m,
+    speed_mps,
+    line_limit_mps,
+    train_max_mps,
+    next_limit_m,
+    next_limit_mps,
+    ma_end_m,
+    ma_speed_mps,
+    planning_decel_mps2,
+    margin_m,
+):
     """What :func:`ato_target_speed` assumes of its inputs, as a predicate for proofs: a positive
     planning deceleration, a non-negative margin and speed, positive limits and non-negative target
     speeds (positions are unconstrained). Takes the same keywords."""

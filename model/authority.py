@@ -36,7 +36,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.curves import FAR_M, MIN_SPAN
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Node, Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 
 PROOF_ROUTE_RESOURCES = 8
@@ -155,8 +155,9 @@ def leader_limit_m(o: Ops, p: AuthorityParams, r: AuthorityState):
 def authority_init(o: Ops, p: AuthorityParams, s: AuthorityState):
     """No report from a preceding train yet."""
     zero = o.const(0)
-    return o.and_(o.not_(s.leader_known), o.eq(s.best_rear_m, zero), o.eq(s.best_stop_m, zero),
-                  o.eq(s.since_report_s, zero))
+    return o.and_(
+        o.not_(s.leader_known), o.eq(s.best_rear_m, zero), o.eq(s.best_stop_m, zero), o.eq(s.since_report_s, zero)
+    )
 
 
 def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs):
@@ -186,9 +187,21 @@ AUTHORITY = Node(
     init=authority_init,
     step=authority_step,
     seed="001 §3.2-3.3 (Fig. 6, 8), 000 §2.2, 002 §4.2",
-    sizes={name: PROOF_ROUTE_RESOURCES for name in (
-        "resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse", "held",
-        "switch_locked", "switch_reversed", "request", "release", "switch_command")},
+    sizes={
+        name: PROOF_ROUTE_RESOURCES
+        for name in (
+            "resource_start_m",
+            "resource_end_m",
+            "resource_is_switch",
+            "switch_needs_reverse",
+            "held",
+            "switch_locked",
+            "switch_reversed",
+            "request",
+            "release",
+            "switch_command",
+        )
+    },
 )
 
 
@@ -219,13 +232,11 @@ def stopping_point_step(o: Ops, p: StoppingPointParams, s: Stateless, i: Stoppin
     return s, StoppingPointOutputs(stopping_point_m(o, p, i.rear_m, i.speed_mps))
 
 
-STOPPING_POINT = Node(
+STOPPING_POINT = stateless_node(
     name="stopping_point",
     params=StoppingPointParams,
-    state=Stateless,
     inputs=StoppingPointQuery,
     outputs=StoppingPointOutputs,
-    init=always,
     step=stopping_point_step,
     seed="000 §2.2, 002 §4.2",
 )

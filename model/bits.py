@@ -43,7 +43,9 @@ class BitReader:
     def read(self, field: str, width: int) -> int:
         if self.offset + width > self.size:
             raise PacketError(
-                self.packet, field, self.offset,
+                self.packet,
+                field,
+                self.offset,
                 f"truncated: needs {width} bits, {self.size - self.offset} left in {self.size // 8} bytes",
             )
         shift = self.size - self.offset - width
@@ -55,21 +57,33 @@ class BitReader:
         start = self.offset
         code = self.read(field, width)
         if code not in allowed:
-            listed = (", ".join(f"{c:0{width}b}b {m}" for c, m in allowed.items()) if isinstance(allowed, dict)
-                      else f"{allowed.start}..{allowed.stop - 1}")
-            raise PacketError(self.packet, field, start, f"{code:0{width}b}b ({code}) is {meaning or 'not allowed'}; "
-                              f"allowed: {listed}")
+            listed = (
+                ", ".join(f"{c:0{width}b}b {m}" for c, m in allowed.items())
+                if isinstance(allowed, dict)
+                else f"{allowed.start}..{allowed.stop - 1}"
+            )
+            raise PacketError(
+                self.packet,
+                field,
+                start,
+                f"{code:0{width}b}b ({code}) is {meaning or 'not allowed'}; allowed: {listed}",
+            )
         return code
 
     def finish(self, length_bits: int) -> None:
         """The packet ended at ``length_bits`` (its L_PACKET): only zero padding to the byte boundary may follow."""
         if self.offset != length_bits:
-            raise PacketError(self.packet, "L_PACKET", 10,
-                              f"{length_bits} bits declared, but the fields end at bit {self.offset}")
+            raise PacketError(
+                self.packet, "L_PACKET", 10, f"{length_bits} bits declared, but the fields end at bit {self.offset}"
+            )
         padding = self.size - self.offset
         if padding >= 8:
-            raise PacketError(self.packet, "padding", self.offset,
-                              f"over-long: {padding} bits follow the packet's {length_bits}, at most 7 may")
+            raise PacketError(
+                self.packet,
+                "padding",
+                self.offset,
+                f"over-long: {padding} bits follow the packet's {length_bits}, at most 7 may",
+            )
         if self.value & ((1 << padding) - 1):
             raise PacketError(self.packet, "padding", self.offset, "the bits after the packet must be 0")
 
@@ -84,8 +98,9 @@ class BitWriter:
 
     def write(self, field: str, width: int, value: int) -> None:
         if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value < 1 << width:
-            raise PacketError(self.packet, field, self.offset,
-                              f"{value!r} does not fit {width} bits (0..{(1 << width) - 1})")
+            raise PacketError(
+                self.packet, field, self.offset, f"{value!r} does not fit {width} bits (0..{(1 << width) - 1})"
+            )
         self.fields.append((field, width, value))
         self.offset += width
 
@@ -100,8 +115,12 @@ class BitWriter:
         for j, (name, width, _) in enumerate(self.fields):
             if name == field:
                 if not 0 <= value < 1 << width:
-                    raise PacketError(self.packet, field, sum(w for _, w, _ in self.fields[:j]),
-                                      f"{value} does not fit {width} bits: the packet is too long")
+                    raise PacketError(
+                        self.packet,
+                        field,
+                        sum(w for _, w, _ in self.fields[:j]),
+                        f"{value} does not fit {width} bits: the packet is too long",
+                    )
                 self.fields[j] = (name, width, value)
                 return
         raise KeyError(field)

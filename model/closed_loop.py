@@ -19,6 +19,7 @@ include one cycle more than the plant's delays after the command.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Generic
 
 from atcs.model.curves import Target, gradient_acceleration_mps2
@@ -28,6 +29,7 @@ from atcs.model.ops import B, N, Ops
 from atcs.model.plant import (
     PlantParams,
     PlantState,
+    max_gradient_acceleration_mps2,
     plant_admits,
     plant_gradient,
     plant_init,
@@ -93,8 +95,9 @@ def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInpu
     curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
     over = exceedances(o, curve, ceiling, front, speed)
     # the measurement assumption (front within position_error_m of the truth) is what a valid position gives
-    state, commands = supervise(o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release,
-                                o.const_bool(True))
+    state, commands = supervise(
+        o, SupervisionParams(p.service_brake_fitted), s, over, i.standstill, i.eb_release, o.const_bool(True)
+    )
     return state, commands, curve
 
 
@@ -107,12 +110,18 @@ def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedL
     atp, commands, curve = atp_cycle(o, p, s, i, p.eoa_m)
     plant = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     state = ClosedLoopState(
-        front_m=plant.front_m, speed_mps=plant.speed_mps, brake_cycles=plant.brake_cycles,
-        eb_latched=atp.eb_latched, sb_latched=atp.sb_latched,
+        front_m=plant.front_m,
+        speed_mps=plant.speed_mps,
+        brake_cycles=plant.brake_cycles,
+        eb_latched=atp.eb_latched,
+        sb_latched=atp.sb_latched,
     )
     return state, ClosedLoopOutputs(
-        warning=commands.warning, service_brake=commands.service_brake, emergency_brake=commands.emergency_brake,
-        traction_cut=commands.traction_cut, ebi_m=curve.ebi_m,
+        warning=commands.warning,
+        service_brake=commands.service_brake,
+        emergency_brake=commands.emergency_brake,
+        traction_cut=commands.traction_cut,
+        ebi_m=curve.ebi_m,
     )
 
 
@@ -131,7 +140,35 @@ CLOSED_LOOP = Node(
     init=closed_loop_init,
     step=closed_loop_step,
     seed="000 §2.4, §2.5",
-    sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
-           "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1},
+    sizes={
+        "gradient_starts_m": 2,
+        "gradient_permille": 2,
+        "emergency_speeds_mps": 1,
+        "emergency_decelerations_mps2": 1,
+        "service_speeds_mps": 1,
+        "service_decelerations_mps2": 1,
+    },
 )
 """ATP + plant for proofs: 2 compensated-gradient segments, one-step brake tables."""
+
+
+def worst_case_at_brake(o, p, front_m, speed_mps, cycles: int, traction_cycles: int, build_up_cycles: int):
+    """The farthest front and highest speed when the brake becomes effective, from ``(front_m, speed_mps)``
+    with the command given for ``cycles`` cycles so far: full traction until the cut-off, then coasting."""
+    dt = p.cycle_s
+    a_traction = worst_acceleration_mps2(o, p)
+    a_coast = max_gradient_acceleration_mps2(o, p)
+    t1 = o.const(max(0, traction_cycles - cycles)) * dt
+    t2 = o.const(build_up_cycles - max(cycles, traction_cycles)) * dt
+    v1 = speed_mps + a_traction * t1
+    front1 = front_m + (speed_mps + v1) / o.const(2) * t1
+    v2 = v1 + a_coast * t2
+    return front1 + (v1 + v2) / o.const(2) * t2, v2
+
+
+def whole_cycles(preset: str, fixed: dict) -> tuple[int, int]:
+    """The plant's traction cut-off and brake build-up delays of a preset, in whole cycles."""
+    for name in ("traction_cut_cycles", "brake_build_up_cycles"):
+        if Fraction(fixed[name]).denominator != 1:
+            raise ValueError(f"closed-loop preset {preset}: {name} = {fixed[name]} is not a whole number of cycles")
+    return int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])

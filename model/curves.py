@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.deceleration import gradient_deceleration_mps2
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import Profile
@@ -101,8 +101,9 @@ def check_braking_capability(t: TrainData, n: NationalData, gradient_c: Profile)
                 )
 
 
-def braking_walk(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target_m, target_speed2,
-                 stop_m, stop_speed2):
+def braking_walk(
+    o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target_m, target_speed2, stop_m, stop_speed2
+):
     """Walk backward from ``(target_m, target_speed2)`` along the EBD until the position reaches
     ``stop_m`` or the squared speed reaches ``stop_speed2``: returns ``(position, squared speed)``.
 
@@ -152,13 +153,16 @@ def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target
     v_d2 = a_est2 * t_berem
     v_cut = o.max(speed_mps + v_d0 + v_d1, target.speed_mps)
     v_bec = v_cut + v_d2
-    d_bec = (o.max(speed_mps + v_d0 + v_d1 / o.const(2), target.speed_mps) * t.t_traction_s
-             + (v_cut + v_d2 / o.const(2)) * t_berem)
+    d_bec = (
+        o.max(speed_mps + v_d0 + v_d1 / o.const(2), target.speed_mps) * t.t_traction_s
+        + (v_cut + v_d2 / o.const(2)) * t_berem
+    )
     return v_bec, d_bec
 
 
-def curve_locations(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps,
-                    a_est_mps2) -> CurveLocations:
+def curve_locations(
+    o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
+) -> CurveLocations:
     """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
     ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
@@ -219,23 +223,28 @@ def curves_step(o: Ops, p: CurveParams, s: Stateless, i: CurveQuery):
     return s, CurveOutputs(**{name: getattr(locations, name) for name in CurveLocations.__dataclass_fields__})
 
 
-CURVES = Node(
+CURVES = stateless_node(
     name="curves",
     params=CurveParams,
-    state=Stateless,
     inputs=CurveQuery,
     outputs=CurveOutputs,
-    init=always,
     step=curves_step,
     seed="000 §2.4, 002 §3.2",
-    sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
-           "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1},
+    sizes={
+        "gradient_starts_m": 2,
+        "gradient_permille": 2,
+        "emergency_speeds_mps": 1,
+        "emergency_decelerations_mps2": 1,
+        "service_speeds_mps": 1,
+        "service_decelerations_mps2": 1,
+    },
 )
 """The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
 and the query speed and acceleration symbolic; train and national data as each property fixes them."""
 
 STEPPED_CURVES = dataclasses.replace(
-    CURVES, name="curves_stepped", sizes={**CURVES.sizes, "emergency_speeds_mps": 3, "emergency_decelerations_mps2": 3})
+    CURVES, name="curves_stepped", sizes={**CURVES.sizes, "emergency_speeds_mps": 3, "emergency_decelerations_mps2": 3}
+)
 """:data:`CURVES` (the same step) for a train whose emergency brake has three speed steps: the walk's cells over
 speed, which the presets' one-step brakes never enter, are proved about too."""
 
@@ -266,17 +275,16 @@ class CeilingOffsetOutputs(Generic[N, B]):
 
 
 def ceiling_offset_step(o: Ops, p: CeilingOffsetParams, s: Stateless, i: CeilingOffsetQuery):
-    return s, CeilingOffsetOutputs(ceiling_offset_mps(o, i.speed_mps, p.dv_min_mps, p.dv_max_mps, p.v_min_mps,
-                                                      p.v_max_mps))
+    return s, CeilingOffsetOutputs(
+        ceiling_offset_mps(o, i.speed_mps, p.dv_min_mps, p.dv_max_mps, p.v_min_mps, p.v_max_mps)
+    )
 
 
-CEILING_OFFSET = Node(
+CEILING_OFFSET = stateless_node(
     name="ceiling_offset",
     params=CeilingOffsetParams,
-    state=Stateless,
     inputs=CeilingOffsetQuery,
     outputs=CeilingOffsetOutputs,
-    init=always,
     step=ceiling_offset_step,
     seed="000 §2.4.2, 002 §3.2",
 )
@@ -312,13 +320,11 @@ def adhesion_step(o: Ops, p: AdhesionParams, s: Stateless, i: AdhesionQuery):
     return s, AdhesionOutputs(adhesion_factor(o, p, p))
 
 
-ADHESION = Node(
+ADHESION = stateless_node(
     name="adhesion",
     params=AdhesionParams,
-    state=Stateless,
     inputs=AdhesionQuery,
     outputs=AdhesionOutputs,
-    init=always,
     step=adhesion_step,
     seed="000 §2.4.1 (Subset-026 3.13.6.2)",
 )
@@ -352,13 +358,11 @@ def gradient_acceleration_step(o: Ops, p: GradientAccelerationParams, s: Statele
     return s, GradientAccelerationOutputs(gradient_acceleration_mps2(o, p, i.gradient_permille))
 
 
-GRADIENT_ACCELERATION = Node(
+GRADIENT_ACCELERATION = stateless_node(
     name="gradient_acceleration",
     params=GradientAccelerationParams,
-    state=Stateless,
     inputs=GradientAccelerationQuery,
     outputs=GradientAccelerationOutputs,
-    init=always,
     step=gradient_acceleration_step,
     seed="000 §2.3 (equation 2), Subset-026 3.13.4.3",
 )

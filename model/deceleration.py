@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile, lowest_under_train, step_lookup
 
@@ -38,12 +38,14 @@ def compensated_gradient_permille(o: Ops, gradient: Profile, train_length_m, fro
     return lowest_under_train(o, (gradient,), train_length_m, front_m)
 
 
-def safe_deceleration_mps2(o: Ops, speeds_mps, decelerations_mps2, gradient: Profile, rotating_mass_percent,
-                           train_length_m, speed_mps, front_m):
+def safe_deceleration_mps2(
+    o: Ops, speeds_mps, decelerations_mps2, gradient: Profile, rotating_mass_percent, train_length_m, speed_mps, front_m
+):
     """``Dec_s(v, d) = Dec(v) + Dec_grad(d)`` with the compensated gradient (equation 1)."""
     grad_c = compensated_gradient_permille(o, gradient, train_length_m, front_m)
-    return (braking_deceleration_mps2(o, speeds_mps, decelerations_mps2, speed_mps)
-            + gradient_deceleration_mps2(o, grad_c, rotating_mass_percent))
+    return braking_deceleration_mps2(o, speeds_mps, decelerations_mps2, speed_mps) + gradient_deceleration_mps2(
+        o, grad_c, rotating_mass_percent
+    )
 
 
 # --- the node the proofs quantify over ------------------------------------------------------------
@@ -84,19 +86,23 @@ def deceleration_step(o: Ops, p: DecelerationParams, s: Stateless, i: Decelerati
     return s, DecelerationOutputs(
         compensated_gradient_permille=compensated_gradient_permille(o, gradient, p.train_length_m, i.front_m),
         safe_deceleration_mps2=safe_deceleration_mps2(
-            o, p.brake_speeds_mps, p.brake_decelerations_mps2, gradient, p.rotating_mass_percent,
-            p.train_length_m, i.speed_mps, i.front_m,
+            o,
+            p.brake_speeds_mps,
+            p.brake_decelerations_mps2,
+            gradient,
+            p.rotating_mass_percent,
+            p.train_length_m,
+            i.speed_mps,
+            i.front_m,
         ),
     )
 
 
-DECELERATION = Node(
+DECELERATION = stateless_node(
     name="deceleration",
     params=DecelerationParams,
-    state=Stateless,
     inputs=DecelerationQuery,
     outputs=DecelerationOutputs,
-    init=always,
     step=deceleration_step,
     seed="000 §2.3",
     sizes={"gradient_starts_m": 4, "gradient_permille": 4, "brake_speeds_mps": 3, "brake_decelerations_mps2": 3},

@@ -23,7 +23,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Node, Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 
 PROOF_PLATFORMS = 3
@@ -98,11 +98,16 @@ def stopped_at_stopping_point(o: Ops, i: DoorConditions):
 def platform_covers_doors(o: Ops, p: DoorParams, i: DoorConditions, side: tuple):
     """Condition 2 for one side: one platform on ``side`` spans the doors, from the rearmost door of the rearmost
     front to the foremost door of the foremost front."""
-    return o.or_(*(
-        o.and_(side[j], i.platform_start_m[j] <= i.front_min_m - p.last_door_m,
-               i.front_max_m - p.first_door_m <= i.platform_end_m[j])
-        for j in range(len(side))
-    ))
+    return o.or_(
+        *(
+            o.and_(
+                side[j],
+                i.platform_start_m[j] <= i.front_min_m - p.last_door_m,
+                i.front_max_m - p.first_door_m <= i.platform_end_m[j],
+            )
+            for j in range(len(side))
+        )
+    )
 
 
 def door_enable(o: Ops, p: DoorParams, i: DoorConditions, doors_closed_locked) -> DoorEnableOutputs:
@@ -119,17 +124,14 @@ def door_enable_step(o: Ops, p: DoorParams, s: Stateless, i: DoorEnableInputs):
     return s, door_enable(o, p, i, i.doors_closed_locked)
 
 
-DOOR_ENABLE = Node(
+DOOR_ENABLE = stateless_node(
     name="door_enable",
     params=DoorParams,
-    state=Stateless,
     inputs=DoorEnableInputs,
     outputs=DoorEnableOutputs,
-    init=always,
     step=door_enable_step,
     seed="004 §2.1",
-    sizes={name: PROOF_PLATFORMS for name in ("platform_start_m", "platform_end_m", "platform_left",
-                                               "platform_right")},
+    sizes={name: PROOF_PLATFORMS for name in ("platform_start_m", "platform_end_m", "platform_left", "platform_right")},
 )
 
 
@@ -235,14 +237,27 @@ class DoorLoopOutputs(Generic[N, B]):
 def door_loop_step(o: Ops, p: DoorParams, s: DcuState, i: DoorLoopInputs):
     """One cycle: the DCU reports its doors, the ATP decides the enables and the traction cut-off, the DCU acts."""
     atp = door_enable(o, p, i, closed_and_locked(o, s))
-    nxt, dcu = dcu_step(o, Stateless(), s, DcuInputs(
-        enable_left=atp.enable_left, enable_right=atp.enable_right, open_left=i.open_left, open_right=i.open_right,
-        close=i.close, obstructed_left=i.obstructed_left, obstructed_right=i.obstructed_right,
-    ))
+    nxt, dcu = dcu_step(
+        o,
+        Stateless(),
+        s,
+        DcuInputs(
+            enable_left=atp.enable_left,
+            enable_right=atp.enable_right,
+            open_left=i.open_left,
+            open_right=i.open_right,
+            close=i.close,
+            obstructed_left=i.obstructed_left,
+            obstructed_right=i.obstructed_right,
+        ),
+    )
     traction_cut = o.or_(atp.traction_cut, i.supervision_traction_cut)
     return nxt, DoorLoopOutputs(
-        enable_left=atp.enable_left, enable_right=atp.enable_right, closed_locked=dcu.closed_locked,
-        traction_cut=traction_cut, traction_applied=o.and_(i.traction_request, o.not_(traction_cut)),
+        enable_left=atp.enable_left,
+        enable_right=atp.enable_right,
+        closed_locked=dcu.closed_locked,
+        traction_cut=traction_cut,
+        traction_applied=o.and_(i.traction_request, o.not_(traction_cut)),
     )
 
 

@@ -24,7 +24,7 @@ from dataclasses import dataclass, fields
 from typing import Generic
 
 from atcs.model.curves import FAR_M, CurveLocations, Target, ceiling_offset_mps, curve_locations
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.ops.floating import FLOAT
 from atcs.model.profile import Profile, value_at
@@ -70,8 +70,9 @@ class CurveSpeeds(Generic[N]):
 
 def ebd_foot_mps(o: Ops, n: NationalData, speed_mps):
     """Where the EBD of a speed decrease to ``speed_mps`` ends: ``V_target + dV_ebi(V_target)``."""
-    return speed_mps + ceiling_offset_mps(o, speed_mps, n.dv_ebi_min_mps, n.dv_ebi_max_mps,
-                                          n.v_ebi_min_mps, n.v_ebi_max_mps)
+    return speed_mps + ceiling_offset_mps(
+        o, speed_mps, n.dv_ebi_min_mps, n.dv_ebi_max_mps, n.v_ebi_min_mps, n.v_ebi_max_mps
+    )
 
 
 def ceilings(o: Ops, n: NationalData, mrsp_mps) -> Ceilings:
@@ -103,17 +104,24 @@ def supervised_targets(o: Ops, n: NationalData, horizon: Horizon, max_safe_front
 
 def most_restrictive(o: Ops, per_target: tuple[CurveLocations, ...]) -> CurveLocations:
     """Each curve's nearest location over the targets."""
-    return CurveLocations(**{
-        f.name: o.min(*(getattr(c, f.name) for c in per_target)) for f in fields(CurveLocations)
-    })
+    return CurveLocations(**{f.name: o.min(*(getattr(c, f.name) for c in per_target)) for f in fields(CurveLocations)})
 
 
-def limits_at(o: Ops, t: TrainData, n: NationalData, gradient: Profile, targets: tuple[Target, ...],
-              mrsp_mps, speed_mps, a_est_mps2) -> tuple[CurveLocations, Ceilings]:
+def limits_at(
+    o: Ops,
+    t: TrainData,
+    n: NationalData,
+    gradient: Profile,
+    targets: tuple[Target, ...],
+    mrsp_mps,
+    speed_mps,
+    a_est_mps2,
+) -> tuple[CurveLocations, Ceilings]:
     """The curves' locations at ``speed_mps`` (the most restrictive target's) and the ceilings for
     the MRSP value ``mrsp_mps`` at the train's position."""
-    curves = most_restrictive(o, tuple(
-        curve_locations(o, t, n, gradient, target, speed_mps, a_est_mps2) for target in targets))
+    curves = most_restrictive(
+        o, tuple(curve_locations(o, t, n, gradient, target, speed_mps, a_est_mps2) for target in targets)
+    )
     return curves, ceilings(o, n, mrsp_mps)
 
 
@@ -128,8 +136,9 @@ def exceedances(o: Ops, curve: CurveLocations, ceiling: Ceilings, front_m, speed
     )
 
 
-def supervise_position(o: Ops, t: TrainData, n: NationalData, horizon: Horizon, max_safe_front_m, speed_mps,
-                       a_est_mps2) -> tuple[Exceedances, CurveLocations, Ceilings]:
+def supervise_position(
+    o: Ops, t: TrainData, n: NationalData, horizon: Horizon, max_safe_front_m, speed_mps, a_est_mps2
+) -> tuple[Exceedances, CurveLocations, Ceilings]:
     """One cycle's speed and distance monitoring on concrete data: targets, the curves at the train's
     speed, the ceilings at its max safe front, and the exceedances (what :func:`supervise` decides on)."""
     targets = supervised_targets(o, n, horizon, max_safe_front_m)
@@ -142,12 +151,14 @@ def supervise_position(o: Ops, t: TrainData, n: NationalData, horizon: Horizon, 
 
 
 def curve_ceiling(ceiling: Ceilings, name: str):
-    return {"ebd": ceiling.ebi_mps, "ebi": ceiling.ebi_mps, "sbi": ceiling.sbi_mps,
-            "warning": ceiling.warning_mps}.get(name, ceiling.permitted_mps)
+    return {"ebd": ceiling.ebi_mps, "ebi": ceiling.ebi_mps, "sbi": ceiling.sbi_mps, "warning": ceiling.warning_mps}.get(
+        name, ceiling.permitted_mps
+    )
 
 
-def curve_speeds_at(t: TrainData, n: NationalData, horizon: Horizon, x_m, a_est_mps2, *, o: Ops = FLOAT,
-                    tolerance_mps=1e-6) -> CurveSpeeds:
+def curve_speeds_at(
+    t: TrainData, n: NationalData, horizon: Horizon, x_m, a_est_mps2, *, o: Ops = FLOAT, tolerance_mps=1e-6
+) -> CurveSpeeds:
     """The speed of each curve at ``x_m``: the highest speed whose curve location is at or beyond
     ``x_m`` (bisection; every curve's location falls as the speed rises), capped by its ceiling
     (the EBD and EBI by MRSP + dV_ebi, permitted and indication by the MRSP itself)."""
@@ -203,18 +214,18 @@ class SupervisedCurves(CurveLocations[N]):
 
 
 def most_restrictive_step(o: Ops, p: NoData, s: Stateless, i: TargetCurves):
-    per_target = tuple(CurveLocations(**{f.name: getattr(i, f"target_{f.name}")[j] for f in fields(CurveLocations)})
-                       for j in range(len(i.target_ebd_m)))
+    per_target = tuple(
+        CurveLocations(**{f.name: getattr(i, f"target_{f.name}")[j] for f in fields(CurveLocations)})
+        for j in range(len(i.target_ebd_m))
+    )
     return s, SupervisedCurves(**vars(most_restrictive(o, per_target)))
 
 
-MOST_RESTRICTIVE = Node(
+MOST_RESTRICTIVE = stateless_node(
     name="most_restrictive",
     params=NoData,
-    state=Stateless,
     inputs=TargetCurves,
     outputs=SupervisedCurves,
-    init=always,
     step=most_restrictive_step,
     seed="000 §2.4, 003 §2.2",
     sizes={f"target_{f.name}": 3 for f in fields(CurveLocations)},
@@ -249,20 +260,28 @@ class LimitsExceeded(Exceedances[N, B]):
 
 def exceedances_step(o: Ops, p: NoData, s: Stateless, i: LimitQuery):
     unread = o.const(FAR_M)  # the EBD and the indication curve are not supervised limits: exceedances never reads them
-    curve = CurveLocations(ebd_m=unread, ebi_m=i.ebi_location_m, sbi_m=i.sbi_location_m,
-                           warning_m=i.warning_location_m, permitted_m=i.permitted_location_m, indication_m=unread)
-    ceiling = Ceilings(permitted_mps=i.permitted_ceiling_mps, warning_mps=i.warning_ceiling_mps,
-                       sbi_mps=i.sbi_ceiling_mps, ebi_mps=i.ebi_ceiling_mps)
+    curve = CurveLocations(
+        ebd_m=unread,
+        ebi_m=i.ebi_location_m,
+        sbi_m=i.sbi_location_m,
+        warning_m=i.warning_location_m,
+        permitted_m=i.permitted_location_m,
+        indication_m=unread,
+    )
+    ceiling = Ceilings(
+        permitted_mps=i.permitted_ceiling_mps,
+        warning_mps=i.warning_ceiling_mps,
+        sbi_mps=i.sbi_ceiling_mps,
+        ebi_mps=i.ebi_ceiling_mps,
+    )
     return s, LimitsExceeded(**vars(exceedances(o, curve, ceiling, i.max_safe_front_m, i.measured_speed_mps)))
 
 
-EXCEEDANCES = Node(
+EXCEEDANCES = stateless_node(
     name="exceedances",
     params=NoData,
-    state=Stateless,
     inputs=LimitQuery,
     outputs=LimitsExceeded,
-    init=always,
     step=exceedances_step,
     seed="000 §2.4.3",
 )

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile, lowest_under_train
 
@@ -68,17 +68,23 @@ def mrsp_step(o: Ops, p: MrspParams, s: Stateless, i: MrspQuery):
     return s, MrspOutputs(mrsp_mps=mrsp_at(o, pisl, tisl, ptsl, ttsl, p.train_length_m, i.front_m))
 
 
-MRSP = Node(
+MRSP = stateless_node(
     name="mrsp",
     params=MrspParams,
-    state=Stateless,
     inputs=MrspQuery,
     outputs=MrspOutputs,
-    init=always,
     step=mrsp_step,
     seed="001 §3.3, 002 §3.2",
-    sizes={"pisl_starts_m": 4, "pisl_limits_mps": 4, "tisl_starts_m": 2, "tisl_limits_mps": 2,
-           "ptsl_starts_m": 2, "ptsl_limits_mps": 2, "ttsl_starts_m": 2, "ttsl_limits_mps": 2},
+    sizes={
+        "pisl_starts_m": 4,
+        "pisl_limits_mps": 4,
+        "tisl_starts_m": 2,
+        "tisl_limits_mps": 2,
+        "ptsl_starts_m": 2,
+        "ptsl_limits_mps": 2,
+        "ttsl_starts_m": 2,
+        "ttsl_limits_mps": 2,
+    },
 )
 """The MRSP as a node for proofs: up to 4 PISL segments and 2 of each other profile (zero-length
 segments allowed, so fewer segments are covered too), all breakpoints, limits and the train length

@@ -108,6 +108,31 @@ def always(o, p, s):
     return o.const_bool(True)
 
 
+def stateless_node(
+    name: str,
+    *,
+    params: type,
+    inputs: type,
+    outputs: type,
+    step: Callable[..., tuple[Any, Any]],
+    seed: str = "",
+    sizes: Mapping[str, int] | None = None,
+) -> Node:
+    """A node without memory: its state is :class:`Stateless` and every state is initial (:func:`always`);
+    ``step(o, p, s, i)`` returns ``s`` unchanged with the outputs."""
+    return Node(
+        name=name,
+        params=params,
+        state=Stateless,
+        inputs=inputs,
+        outputs=outputs,
+        init=always,
+        step=step,
+        seed=seed,
+        sizes=dict(sizes or {}),
+    )
+
+
 def as_dict(value) -> dict[str, Any]:
     """A node dataclass instance as ``{field: value}`` (shallow, unlike dataclasses.asdict)."""
     return {f.name: getattr(value, f.name) for f in dataclasses.fields(value)}

@@ -131,7 +131,9 @@ def plant_admits(o: Ops, p: PlantParams, s: PlantState, emergency_brake, next_sp
         distance_m <= v * dt,
     )
     return o.and_(
-        v_next >= zero, distance_m >= zero, v_next >= v - p.max_deceleration_mps2 * dt,
+        v_next >= zero,
+        distance_m >= zero,
+        v_next >= v - p.max_deceleration_mps2 * dt,
         o.ite(brake_effective(o, p, s, emergency_brake), braked, free),
     )
 

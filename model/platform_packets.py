@@ -40,8 +40,22 @@ Q_SCALE_M = {0: Fraction(1, 10), 1: Fraction(1), 2: Fraction(10)}
 """Q_SCALE: the distance unit in metres (10 cm, 1 m, 10 m); 11b is spare."""
 Q_PLATFORM = {0: "left", 1: "right", 2: "both"}
 """The side of the train (in its direction of travel) the platform is on; 11b is spare."""
-M_PLATFORM_MM = {0: 200, 1: 300, 2: 550, 3: 580, 4: 680, 5: 685, 6: 730, 7: 760, 8: 840, 9: 900, 10: 915,
-                 11: 920, 12: 960, 13: 1100}
+M_PLATFORM_MM = {
+    0: 200,
+    1: 300,
+    2: 550,
+    3: 580,
+    4: 680,
+    5: 685,
+    6: 730,
+    7: 760,
+    8: 840,
+    9: 900,
+    10: 915,
+    11: 920,
+    12: 960,
+    13: 1100,
+}
 """M_PLATFORM: the platform's nominal height above rail level (mm); 14 and 15 are spare (ERA_ERTMS_040001)."""
 
 MAX_DISTANCE = (1 << 15) - 1
@@ -179,15 +193,20 @@ def encode_packet69(packet: Packet69) -> bytes:
     bits.check("Q_TRACKINIT", 1, packet.q_trackinit, (0, 1))
     if packet.q_trackinit:
         if packet.elements or packet.d_trackinit is None:
-            raise PacketError("packet 69", "D_TRACKINIT", bits.offset,
-                              "Q_TRACKINIT 1 needs D_TRACKINIT and no platform elements")
+            raise PacketError(
+                "packet 69", "D_TRACKINIT", bits.offset, "Q_TRACKINIT 1 needs D_TRACKINIT and no platform elements"
+            )
         bits.write("D_TRACKINIT", 15, packet.d_trackinit)
         return _finish(bits)
     if packet.d_trackinit is not None:
         raise PacketError("packet 69", "D_TRACKINIT", bits.offset, "given with Q_TRACKINIT 0")
     if not 1 <= len(packet.elements) <= MAX_ITER + 1:
-        raise PacketError("packet 69", "N_ITER", bits.offset + ELEMENT_BITS,
-                          f"{len(packet.elements)} elements; Q_TRACKINIT 0 needs 1 to {MAX_ITER + 1}")
+        raise PacketError(
+            "packet 69",
+            "N_ITER",
+            bits.offset + ELEMENT_BITS,
+            f"{len(packet.elements)} elements; Q_TRACKINIT 0 needs 1 to {MAX_ITER + 1}",
+        )
     first, *rest = packet.elements
     _write_element(bits, first, None)
     bits.write("N_ITER", 5, len(rest))

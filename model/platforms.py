@@ -76,13 +76,20 @@ def platforms_from_packet(packet: PlatformPacket, reference_m, *, direction: str
     start, platforms = Fraction(reference_m), []
     for element in packet.elements:
         start += element.d_trackcond * scale
-        platforms.append(Platform(start, start + element.l_trackcond * scale, Q_PLATFORM[element.q_platform],
-                                  M_PLATFORM_MM[element.m_platform]))
+        platforms.append(
+            Platform(
+                start,
+                start + element.l_trackcond * scale,
+                Q_PLATFORM[element.q_platform],
+                M_PLATFORM_MM[element.m_platform],
+            )
+        )
     return tuple(platforms)
 
 
-def packet_for_platforms(platforms: Sequence[Platform], reference_m, *, q_scale: int = 1, nid_packet: int = 69,
-                         q_dir: int = 1) -> PlatformPacket:
+def packet_for_platforms(
+    platforms: Sequence[Platform], reference_m, *, q_scale: int = 1, nid_packet: int = 69, q_dir: int = 1
+) -> PlatformPacket:
     """The packet that :func:`platforms_from_packet` turns back into ``platforms`` (sorted by start, each
     distance a whole number of Q_SCALE units from the previous start); a ValueError names what does not fit."""
     if q_scale not in Q_SCALE_M:
@@ -93,16 +100,20 @@ def packet_for_platforms(platforms: Sequence[Platform], reference_m, *, q_scale:
         d, length = (platform.start_m - previous) / scale, (platform.end_m - platform.start_m) / scale
         for name, units in (("start_m", d), ("length", length)):
             if units.denominator != 1 or not 0 <= units <= MAX_DISTANCE:
-                raise ValueError(f"platform {k}: {name} gives {units} units of {scale} m; it must be a whole number "
-                                 f"in 0..{MAX_DISTANCE}")
+                raise ValueError(
+                    f"platform {k}: {name} gives {units} units of {scale} m; it must be a whole number "
+                    f"in 0..{MAX_DISTANCE}"
+                )
         if platform.height_mm not in heights:
-            raise ValueError(f"platform {k}: height_mm = {platform.height_mm!r} has no M_PLATFORM code "
-                             f"(codes exist for {sorted(heights)})")
+            raise ValueError(
+                f"platform {k}: height_mm = {platform.height_mm!r} has no M_PLATFORM code "
+                f"(codes exist for {sorted(heights)})"
+            )
         if platform.side not in SIDES:
-            raise ValueError(f"platform {k}: side = {platform.side!r} has no Q_PLATFORM code "
-                             f"(codes exist for {', '.join(SIDES)})")
-        elements.append(PlatformElement(int(d), int(length), heights[platform.height_mm],
-                                        SIDES.index(platform.side)))
+            raise ValueError(
+                f"platform {k}: side = {platform.side!r} has no Q_PLATFORM code (codes exist for {', '.join(SIDES)})"
+            )
+        elements.append(PlatformElement(int(d), int(length), heights[platform.height_mm], SIDES.index(platform.side)))
         previous = platform.start_m
     if nid_packet == 69:
         return Packet69(q_dir, q_scale, tuple(elements))
@@ -119,11 +130,14 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
         raise PlatformDataError(f"{where} must be a table, got {section!r}")
     unknown = sorted(set(section) - {"packet", "reference_m", "direction", "table"})
     if unknown:
-        raise PlatformDataError(f"{where}: unknown field {unknown[0]!r} (fields: packet, reference_m, direction, "
-                                "table)")
+        raise PlatformDataError(
+            f"{where}: unknown field {unknown[0]!r} (fields: packet, reference_m, direction, table)"
+        )
     if ("packet" in section) == ("table" in section):
-        raise PlatformDataError(f"{where}: give either 'packet' (hex) with 'reference_m', or 'table', not "
-                                f"{'both' if 'packet' in section else 'neither'}")
+        raise PlatformDataError(
+            f"{where}: give either 'packet' (hex) with 'reference_m', or 'table', not "
+            f"{'both' if 'packet' in section else 'neither'}"
+        )
     if "table" in section:
         extra = sorted({"reference_m", "direction"} & set(section))
         if extra:
@@ -147,8 +161,9 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
         return ()
     platforms = platforms_from_packet(packet, reference, direction=direction)
     if not platforms and packet.elements:
-        raise PlatformDataError(f"{where}: the packet's Q_DIR ({packet.q_dir}) does not apply to a train running "
-                                f"{direction}")
+        raise PlatformDataError(
+            f"{where}: the packet's Q_DIR ({packet.q_dir}) does not apply to a train running {direction}"
+        )
     return platforms
 
 
@@ -162,8 +177,9 @@ def _table(rows, where: str) -> tuple[Platform, ...]:
             raise PlatformDataError(f"{entry} must be a table, got {row!r}")
         unknown = sorted(set(row) - {"start_m", "length_m", "side", "height_mm"})
         if unknown:
-            raise PlatformDataError(f"{entry}: unknown field {unknown[0]!r} (fields: start_m, length_m, side, "
-                                    "height_mm)")
+            raise PlatformDataError(
+                f"{entry}: unknown field {unknown[0]!r} (fields: start_m, length_m, side, height_mm)"
+            )
         for key in ("start_m", "length_m", "side"):
             if key not in row:
                 raise PlatformDataError(f"{entry}: {key} is missing")
@@ -177,8 +193,10 @@ def _table(rows, where: str) -> tuple[Platform, ...]:
             raise PlatformDataError(f"{entry}: side = {row['side']!r} must be one of {', '.join(SIDES)}")
         height = row.get("height_mm")
         if height is not None and (type(height) is not int or height not in M_PLATFORM_MM.values()):
-            raise PlatformDataError(f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
-                                    f"({', '.join(map(str, M_PLATFORM_MM.values()))})")
+            raise PlatformDataError(
+                f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
+                f"({', '.join(map(str, M_PLATFORM_MM.values()))})"
+            )
         platforms.append(Platform(start, start + length, row["side"], height))
     return tuple(platforms)
 

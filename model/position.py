@@ -45,7 +45,7 @@ from pathlib import Path
 from typing import Generic
 
 from atcs.model.errors import AtcsInputError
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Node, Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import parse_number
 
@@ -131,8 +131,10 @@ class PositionOutputs(Generic[N, B]):
 
 def odometry_interval(o: Ops, p: PositionParams, ref_m, offset_m):
     """``(min safe front, max safe front)`` at ``offset_m`` past a tag at ``ref_m`` (DESIGN.md odometry)."""
-    return (ref_m + (o.const(1) - p.tacho_error) * offset_m - p.tag_window_m,
-            ref_m + (o.const(1) + p.tacho_error) * offset_m + p.tag_window_m)
+    return (
+        ref_m + (o.const(1) - p.tacho_error) * offset_m - p.tag_window_m,
+        ref_m + (o.const(1) + p.tacho_error) * offset_m + p.tag_window_m,
+    )
 
 
 def speed_accuracy_mps(o: Ops, p: PositionParams, speed_est_mps):
@@ -243,8 +245,9 @@ def _number(source: str, field: str, raw) -> Fraction:
     return parse_number(source, field, raw, TagTableError)
 
 
-def tag_table(source: str, ids: Sequence, positions_m: Sequence,
-              entry: Callable[[int], str] = "tag {}".format) -> TagTable:
+def tag_table(
+    source: str, ids: Sequence, positions_m: Sequence, entry: Callable[[int], str] = "tag {}".format
+) -> TagTable:
     """A :class:`TagTable`, or a :class:`TagTableError` naming ``source``, the entry (``entry(j)``) and the value:
     ids must be distinct whole numbers, positions strictly increasing (the order the train passes them)."""
     if len(ids) != len(positions_m):
@@ -291,8 +294,9 @@ def read_tag_table(path: str | Path) -> TagTable:
 
 def seed000_tags(line_m: int = 15_000, spacing_m: int = 100) -> TagTable:
     """Seed 000 §2.5: a tag every 100 m from 0 m (tag 1) to 15 km (tag 1501): the id counts 10 m units."""
-    return tag_table("seed000 tags", [x // 10 + 1 for x in range(0, line_m + 1, spacing_m)],
-                     list(range(0, line_m + 1, spacing_m)))
+    return tag_table(
+        "seed000 tags", [x // 10 + 1 for x in range(0, line_m + 1, spacing_m)], list(range(0, line_m + 1, spacing_m))
+    )
 
 
 def seed002_tags(line_m: int = 56_800, spacing_m: int = 200, group_gap_m: int = 5) -> TagTable:
@@ -305,12 +309,24 @@ def seed002_tags(line_m: int = 56_800, spacing_m: int = 200, group_gap_m: int = 
     return tag_table("seed002 tags", ids, positions)
 
 
-def position_params(table: TagTable, *, tag_window_m, tacho_error, train_length_m, cycle_s,
-                    max_acceleration_mps2, max_deceleration_mps2, source: str = "position data") -> PositionParams:
+def position_params(
+    table: TagTable,
+    *,
+    tag_window_m,
+    tacho_error,
+    train_length_m,
+    cycle_s,
+    max_acceleration_mps2,
+    max_deceleration_mps2,
+    source: str = "position data",
+) -> PositionParams:
     """Exact :class:`PositionParams` for a tag table, or a :class:`TagTableError` naming the field and value."""
     values = {
-        "tag_window_m": tag_window_m, "tacho_error": tacho_error, "train_length_m": train_length_m,
-        "cycle_s": cycle_s, "max_acceleration_mps2": max_acceleration_mps2,
+        "tag_window_m": tag_window_m,
+        "tacho_error": tacho_error,
+        "train_length_m": train_length_m,
+        "cycle_s": cycle_s,
+        "max_acceleration_mps2": max_acceleration_mps2,
         "max_deceleration_mps2": max_deceleration_mps2,
     }
     exact = {name: _number(source, name, raw) for name, raw in values.items()}
@@ -363,13 +379,11 @@ def tacho_check_step(o: Ops, p: TachoCheckParams, s: Stateless, i: TachoCheckInp
     return s, TachoCheckOutputs(implausible_increment(o, p, i.last_tacho_m, i.tacho_m))
 
 
-TACHO_CHECK = Node(
+TACHO_CHECK = stateless_node(
     name="tacho_check",
     params=TachoCheckParams,
-    state=Stateless,
     inputs=TachoCheckInputs,
     outputs=TachoCheckOutputs,
-    init=always,
     step=tacho_check_step,
     seed="001 §3.2, 002 §3.1",
 )

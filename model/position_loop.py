@@ -77,8 +77,9 @@ class PositionLoopOutputs(PositionOutputs[N, B], SupervisionOutputs[N, B]):
 def position_loop_init(o: Ops, p: PositionLoopParams, s: PositionLoopState):
     """Power-up at standstill, no position, EB applied."""
     zero = o.const(0)
-    return o.and_(position_init(o, p, s), supervision_init(o, p, s), o.eq(s.speed_mps, zero),
-                  o.eq(s.last_distance_m, zero))
+    return o.and_(
+        position_init(o, p, s), supervision_init(o, p, s), o.eq(s.speed_mps, zero), o.eq(s.last_distance_m, zero)
+    )
 
 
 def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: PositionLoopInputs):
@@ -92,8 +93,11 @@ def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: P
     )
     supervised, commands = supervise(o, p, s, over, position.standstill, i.eb_release, position.position_valid)
     state = PositionLoopState(
-        **as_dict(located), **as_dict(supervised),
-        front_m=s.front_m + i.distance_m, speed_mps=i.next_speed_mps, last_distance_m=i.distance_m,
+        **as_dict(located),
+        **as_dict(supervised),
+        front_m=s.front_m + i.distance_m,
+        speed_mps=i.next_speed_mps,
+        last_distance_m=i.distance_m,
     )
     return state, PositionLoopOutputs(**as_dict(position), **as_dict(commands))
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
-from atcs.model.node import Node, Stateless, always
+from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile, segment_ends, value_at
 
@@ -52,7 +52,7 @@ def merge_min(o: Ops, first: Profile, *rest: Profile) -> Profile:
     """
     profiles = [first, *rest]
     while len(profiles) > 1:
-        pairs = [profiles[k:k + 2] for k in range(0, len(profiles), 2)]
+        pairs = [profiles[k : k + 2] for k in range(0, len(profiles), 2)]
         profiles = [_merge_pair(o, *pair) if len(pair) == 2 else pair[0] for pair in pairs]
     return profiles[0]
 
@@ -82,10 +82,13 @@ def extend_by_train_length(o: Ops, profile: Profile, train_length_m) -> Profile:
 
     Equal, point by point, to :func:`~atcs.model.profile.lowest_under_train` of the profile alone.
     """
-    return merge_min(o, *(
-        interval(o, profile, start, end + train_length_m, v)
-        for start, end, v in zip(profile.starts_m, segment_ends(profile), profile.values, strict=True)
-    ))
+    return merge_min(
+        o,
+        *(
+            interval(o, profile, start, end + train_length_m, v)
+            for start, end, v in zip(profile.starts_m, segment_ends(profile), profile.values, strict=True)
+        ),
+    )
 
 
 def filter_convex_bumps(o: Ops, profile: Profile, train_length_m) -> Profile:
@@ -120,9 +123,9 @@ def permanent_speed_limit(o: Ops, pisl: Profile, ptsl: Profile, train_length_m) 
 def restricted(o: Ops, base: Profile, restrictions: tuple[Restriction, ...], train_length_m) -> Profile:
     """Equation 2: ``base`` (the PSL, or a window of it) with each restriction merged in over
     ``[start, end + L)``: the MRSP."""
-    return merge_min(o, base, *(
-        interval(o, base, r.start_m, r.end_m + train_length_m, r.limit_mps) for r in restrictions
-    ))
+    return merge_min(
+        o, base, *(interval(o, base, r.start_m, r.end_m + train_length_m, r.limit_mps) for r in restrictions)
+    )
 
 
 def affected_m(r: Restriction, train_length_m) -> tuple:
@@ -137,7 +140,7 @@ def window(o: Ops, profile: Profile, from_m, to_m, lo: int, hi: int) -> Profile:
     must start at or before ``from_m``, and segment ``hi`` (if any) at or after
     ``to_m``. Breakpoints are clamped into the window, so extra segments are harmless.
     """
-    inner = tuple(o.min(o.max(s, from_m), to_m) for s in profile.starts_m[lo + 1:hi])
+    inner = tuple(o.min(o.max(s, from_m), to_m) for s in profile.starts_m[lo + 1 : hi])
     return Profile((from_m, *inner), profile.values[lo:hi], to_m)
 
 
@@ -173,8 +176,10 @@ class PslOutputs(Generic[N, B]):
 
 
 def psl_profiles(p: PslParams) -> tuple[Profile, Profile]:
-    return (Profile(p.pisl_starts_m, p.pisl_limits_mps, p.line_end_m),
-            Profile(p.ptsl_starts_m, p.ptsl_limits_mps, p.line_end_m))
+    return (
+        Profile(p.pisl_starts_m, p.pisl_limits_mps, p.line_end_m),
+        Profile(p.ptsl_starts_m, p.ptsl_limits_mps, p.line_end_m),
+    )
 
 
 def psl_step(o: Ops, p: PslParams, s: Stateless, i: FrontQuery):
@@ -183,13 +188,11 @@ def psl_step(o: Ops, p: PslParams, s: Stateless, i: FrontQuery):
     return s, PslOutputs(psl_mps=value_at(o, psl, i.front_m))
 
 
-PSL = Node(
+PSL = stateless_node(
     name="psl",
     params=PslParams,
-    state=Stateless,
     inputs=FrontQuery,
     outputs=PslOutputs,
-    init=always,
     step=psl_step,
     seed="002 §3.2",
     sizes={"pisl_starts_m": 3, "pisl_limits_mps": 3, "ptsl_starts_m": 2, "ptsl_limits_mps": 2},
@@ -248,13 +251,11 @@ def update_step(o: Ops, p: UpdateParams, s: Stateless, i: FrontQuery):
     )
 
 
-MRSP_UPDATE = Node(
+MRSP_UPDATE = stateless_node(
     name="mrsp_update",
     params=UpdateParams,
-    state=Stateless,
     inputs=FrontQuery,
     outputs=UpdateOutputs,
-    init=always,
     step=update_step,
     seed="002 §3.2",
     sizes={"psl_starts_m": 4, "psl_limits_mps": 4},
@@ -264,7 +265,16 @@ MRSP_UPDATE = Node(
 
 
 __all__ = [
-    "MRSP_UPDATE", "PSL", "Restriction", "affected_m", "extend_by_train_length", "filter_convex_bumps",
-    "interval", "merge_min", "permanent_speed_limit", "restricted", "spliced_value_at",
+    "MRSP_UPDATE",
+    "PSL",
+    "Restriction",
+    "affected_m",
+    "extend_by_train_length",
+    "filter_convex_bumps",
+    "interval",
+    "merge_min",
+    "permanent_speed_limit",
+    "restricted",
+    "spliced_value_at",
     "window",
 ]

@@ -130,6 +130,14 @@ RESOURCES = Node(
     init=resource_init,
     step=resource_step,
     seed="001 §3.2 (Fig. 5)",
-    sizes={"owner": PROOF_RESOURCES, "holding": PROOF_SLOTS, "up": PROOF_SLOTS, "down": PROOF_SLOTS,
-           "send": PROOF_SLOTS, "deliver_up": PROOF_SLOTS, "deliver_down": PROOF_SLOTS, "held": PROOF_SLOTS},
+    sizes={
+        "owner": PROOF_RESOURCES,
+        "holding": PROOF_SLOTS,
+        "up": PROOF_SLOTS,
+        "down": PROOF_SLOTS,
+        "send": PROOF_SLOTS,
+        "deliver_up": PROOF_SLOTS,
+        "deliver_down": PROOF_SLOTS,
+        "held": PROOF_SLOTS,
+    },
 )

@@ -101,9 +101,9 @@ class SpeedRestrictions:
         overlapping = tuple(
             r for r in self.active.values() if r.start_m < to_m and from_m < r.end_m + self.train_length_m
         )
-        recomputed = canonical(restricted(
-            self.ops, window(self.ops, psl, from_m, to_m, lo, hi), overlapping, self.train_length_m
-        ))
+        recomputed = canonical(
+            restricted(self.ops, window(self.ops, psl, from_m, to_m, lo, hi), overlapping, self.train_length_m)
+        )
         self._splice(from_m, to_m, recomputed)
 
     def _splice(self, from_m, to_m, recomputed: Profile) -> None:
@@ -114,8 +114,8 @@ class SpeedRestrictions:
         if to_m < self.end_m:
             new_starts.append(to_m)
             new_values.append(values[last])
-        starts[first:last + 1] = new_starts
-        values[first:last + 1] = new_values
+        starts[first : last + 1] = new_starts
+        values[first : last + 1] = new_values
         _merge_equal(starts, values, first + len(recomputed.values))  # the window's end
         _merge_equal(starts, values, first)  # its start
 

@@ -75,47 +75,50 @@ def route(source: str, resources: Sequence[Mapping], line_end_m) -> Route:
     checked: list[Resource] = []
     ids: dict[int, int] = {}
     for k, entry in enumerate(resources):
-        where = f"{source}: resource {k}"
-        if not isinstance(entry, Mapping):
-            raise RouteError(f"{where}: expected a table of fields, got {entry!r}")
-        unknown = sorted(set(entry) - {"id", "kind", "start_m", "end_m", "direction"})
-        if unknown:
-            raise RouteError(f"{where}: unknown field {unknown[0]!r} (fields: id, kind, start_m, end_m, direction)")
-        for field in ("id", "kind", "start_m", "end_m"):
-            if field not in entry:
-                raise RouteError(f"{where}: {field} is missing")
-        raw_id = entry["id"]
-        if isinstance(raw_id, bool) or not isinstance(raw_id, int):
-            raise RouteError(f"{where}: id = {raw_id!r} is not a whole number")
-        if raw_id in ids:
-            raise RouteError(f"{where}: id = {raw_id!r} duplicates the id of resource {ids[raw_id]}")
-        ids[raw_id] = k
-        kind = entry["kind"]
-        if kind not in KINDS:
-            raise RouteError(f"{where}: kind = {kind!r} is not one of {', '.join(KINDS)}")
-        start, end = _number(where, "start_m", entry["start_m"]), _number(where, "end_m", entry["end_m"])
-        if k == 0 and start < 0:
-            raise RouteError(f"{where}: start_m = {entry['start_m']!r} is negative")
-        if checked and start != checked[-1].end_m:
-            raise RouteError(
-                f"{where}: start_m = {entry['start_m']!r} does not continue resource {k - 1}, which ends at "
-                f"{checked[-1].end_m} (resources must be contiguous along the route)"
-            )
-        if end <= start:
-            raise RouteError(f"{where}: end_m = {entry['end_m']!r} is not after start_m = {entry['start_m']!r}")
-        direction = entry.get("direction")
-        if kind == "switch" and direction not in DIRECTIONS:
-            raise RouteError(f"{where}: a switch needs direction = 'normal' or 'reverse', got {direction!r}")
-        if kind == "track" and direction is not None:
-            raise RouteError(f"{where}: direction = {direction!r} is given for a track resource (only switches)")
-        checked.append(Resource(raw_id, kind, start, end, direction))
+        checked.append(_resource(f"{source}: resource {k}", k, entry, ids, checked[-1] if checked else None))
     end_of_line = _number(source, "line_end_m", line_end_m)
     if not checked[0].start_m < end_of_line <= checked[-1].end_m:
         raise RouteError(
-            f"{source}: line_end_m = {line_end_m!r} is not within the route "
-            f"({checked[0].start_m}, {checked[-1].end_m}]"
+            f"{source}: line_end_m = {line_end_m!r} is not within the route ({checked[0].start_m}, {checked[-1].end_m}]"
         )
     return Route(tuple(checked), end_of_line)
+
+
+def _resource(where: str, k: int, entry, ids: dict[int, int], previous: Resource | None) -> Resource:
+    """Resource ``k`` of a route, contiguous with the ``previous`` one; ``ids`` the ids so far (updated)."""
+    if not isinstance(entry, Mapping):
+        raise RouteError(f"{where}: expected a table of fields, got {entry!r}")
+    unknown = sorted(set(entry) - {"id", "kind", "start_m", "end_m", "direction"})
+    if unknown:
+        raise RouteError(f"{where}: unknown field {unknown[0]!r} (fields: id, kind, start_m, end_m, direction)")
+    for field in ("id", "kind", "start_m", "end_m"):
+        if field not in entry:
+            raise RouteError(f"{where}: {field} is missing")
+    raw_id = entry["id"]
+    if isinstance(raw_id, bool) or not isinstance(raw_id, int):
+        raise RouteError(f"{where}: id = {raw_id!r} is not a whole number")
+    if raw_id in ids:
+        raise RouteError(f"{where}: id = {raw_id!r} duplicates the id of resource {ids[raw_id]}")
+    ids[raw_id] = k
+    kind = entry["kind"]
+    if kind not in KINDS:
+        raise RouteError(f"{where}: kind = {kind!r} is not one of {', '.join(KINDS)}")
+    start, end = _number(where, "start_m", entry["start_m"]), _number(where, "end_m", entry["end_m"])
+    if previous is None and start < 0:
+        raise RouteError(f"{where}: start_m = {entry['start_m']!r} is negative")
+    if previous is not None and start != previous.end_m:
+        raise RouteError(
+            f"{where}: start_m = {entry['start_m']!r} does not continue resource {k - 1}, which ends at "
+            f"{previous.end_m} (resources must be contiguous along the route)"
+        )
+    if end <= start:
+        raise RouteError(f"{where}: end_m = {entry['end_m']!r} is not after start_m = {entry['start_m']!r}")
+    direction = entry.get("direction")
+    if kind == "switch" and direction not in DIRECTIONS:
+        raise RouteError(f"{where}: a switch needs direction = 'normal' or 'reverse', got {direction!r}")
+    if kind == "track" and direction is not None:
+        raise RouteError(f"{where}: direction = {direction!r} is given for a track resource (only switches)")
+    return Resource(raw_id, kind, start, end, direction)
 
 
 def read_route(path: str | Path) -> Route:

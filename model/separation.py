@@ -85,10 +85,16 @@ def follower_authority(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainI
     """The follower's authority node on its measured position: ``(next authority state, its outputs)``."""
     front_max = i.measured_front_m + p.position_error_m
     inputs = AuthorityInputs(
-        front_max_m=front_max, rear_min_m=i.measured_front_m - p.position_error_m - p.train_length_m,
-        held=i.held, switch_locked=i.switch_locked, switch_reversed=i.switch_reversed,
-        report_delivered=i.report_delivered, report_rear_m=i.report_rear_m, report_speed_mps=i.report_speed_mps,
-        zone_active=i.zone_active, zone_start_m=i.zone_start_m,
+        front_max_m=front_max,
+        rear_min_m=i.measured_front_m - p.position_error_m - p.train_length_m,
+        held=i.held,
+        switch_locked=i.switch_locked,
+        switch_reversed=i.switch_reversed,
+        report_delivered=i.report_delivered,
+        report_rear_m=i.report_rear_m,
+        report_speed_mps=i.report_speed_mps,
+        zone_active=i.zone_active,
+        zone_start_m=i.zone_start_m,
     )
     return authority_step(o, p, s, inputs)
 
@@ -96,11 +102,17 @@ def follower_authority(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainI
 def two_train_init(o: Ops, p: TwoTrainParams, s: TwoTrainState):
     """The follower at standstill with EB applied, holding a report of its leader, behind the limit it gives."""
     return o.and_(
-        supervision_init(o, p, s), plant_init(o, p, s), s.leader_speed_mps >= o.const(0),
+        supervision_init(o, p, s),
+        plant_init(o, p, s),
+        s.leader_speed_mps >= o.const(0),
         o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)),
-        s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m,
-        s.best_rear_m <= s.best_stop_m, o.eq(s.since_report_s, o.const(0)),
-        s.front_m <= s.best_rear_m - p.safety_margin_m, s.front_m < s.leader_rear_m,
+        s.leader_known,
+        s.best_rear_m <= s.leader_rear_m,
+        s.best_stop_m <= s.leader_stop_m,
+        s.best_rear_m <= s.best_stop_m,
+        o.eq(s.since_report_s, o.const(0)),
+        s.front_m <= s.best_rear_m - p.safety_margin_m,
+        s.front_m < s.leader_rear_m,
     )
 
 
@@ -110,16 +122,25 @@ def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInput
     follower = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     leader_rear = s.leader_rear_m + i.leader_distance_m
     state = TwoTrainState(
-        front_m=follower.front_m, speed_mps=follower.speed_mps, brake_cycles=follower.brake_cycles,
-        eb_latched=atp.eb_latched, sb_latched=atp.sb_latched,
-        leader_known=reports.leader_known, best_rear_m=reports.best_rear_m, best_stop_m=reports.best_stop_m,
+        front_m=follower.front_m,
+        speed_mps=follower.speed_mps,
+        brake_cycles=follower.brake_cycles,
+        eb_latched=atp.eb_latched,
+        sb_latched=atp.sb_latched,
+        leader_known=reports.leader_known,
+        best_rear_m=reports.best_rear_m,
+        best_stop_m=reports.best_stop_m,
         since_report_s=reports.since_report_s,
-        leader_rear_m=leader_rear, leader_speed_mps=i.leader_next_speed_mps,
+        leader_rear_m=leader_rear,
+        leader_speed_mps=i.leader_next_speed_mps,
         leader_stop_m=earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps),
     )
     return state, TwoTrainOutputs(
-        warning=commands.warning, service_brake=commands.service_brake, emergency_brake=commands.emergency_brake,
-        traction_cut=commands.traction_cut, eoa_m=ma.eoa_m,
+        warning=commands.warning,
+        service_brake=commands.service_brake,
+        emergency_brake=commands.emergency_brake,
+        traction_cut=commands.traction_cut,
+        eoa_m=ma.eoa_m,
     )
 
 
@@ -138,10 +159,25 @@ TWO_TRAINS = Node(
     init=two_train_init,
     step=two_train_step,
     seed="001 §3.2 (Fig. 6), 000 §2.2, §2.5",
-    sizes={"gradient_starts_m": 2, "gradient_permille": 2, "emergency_speeds_mps": 1,
-           "emergency_decelerations_mps2": 1, "service_speeds_mps": 1, "service_decelerations_mps2": 1,
-           **{name: PROOF_RESOURCES for name in ("resource_start_m", "resource_end_m", "resource_is_switch",
-                                                  "switch_needs_reverse", "held", "switch_locked",
-                                                  "switch_reversed")}},
+    sizes={
+        "gradient_starts_m": 2,
+        "gradient_permille": 2,
+        "emergency_speeds_mps": 1,
+        "emergency_decelerations_mps2": 1,
+        "service_speeds_mps": 1,
+        "service_decelerations_mps2": 1,
+        **{
+            name: PROOF_RESOURCES
+            for name in (
+                "resource_start_m",
+                "resource_end_m",
+                "resource_is_switch",
+                "switch_needs_reverse",
+                "held",
+                "switch_locked",
+                "switch_reversed",
+            )
+        },
+    },
 )
 """Follower ATP and authority + follower plant + leader + T2T channel, for proofs."""

@@ -90,8 +90,9 @@ class Exceedances(Generic[N, B]):
     over_ebi: B
 
 
-def supervise(o: Ops, p: SupervisionParams, s: SupervisionState, over: Exceedances, standstill, eb_release,
-              position_valid):
+def supervise(
+    o: Ops, p: SupervisionParams, s: SupervisionState, over: Exceedances, standstill, eb_release, position_valid
+):
     """The supervision decision from the limits exceeded: returns (next state, commands). A train that does not
     know its position is emergency braked (seed 001 §3.2)."""
     eb_released = o.and_(standstill, eb_release)

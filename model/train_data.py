@@ -128,11 +128,21 @@ def subset026_national() -> NationalData:
     return NationalData(
         m_nvavadh=Fraction(0),
         inhibit_speed_inaccuracy=False,
-        dv_ebi_min_mps=_kmh("7.5"), dv_ebi_max_mps=_kmh(15), v_ebi_min_mps=_kmh(110), v_ebi_max_mps=_kmh(210),
-        dv_sbi_min_mps=_kmh("5.5"), dv_sbi_max_mps=_kmh(10), v_sbi_min_mps=_kmh(110), v_sbi_max_mps=_kmh(210),
-        dv_warning_min_mps=_kmh(4), dv_warning_max_mps=_kmh(5), v_warning_min_mps=_kmh(110),
+        dv_ebi_min_mps=_kmh("7.5"),
+        dv_ebi_max_mps=_kmh(15),
+        v_ebi_min_mps=_kmh(110),
+        v_ebi_max_mps=_kmh(210),
+        dv_sbi_min_mps=_kmh("5.5"),
+        dv_sbi_max_mps=_kmh(10),
+        v_sbi_min_mps=_kmh(110),
+        v_sbi_max_mps=_kmh(210),
+        dv_warning_min_mps=_kmh(4),
+        dv_warning_max_mps=_kmh(5),
+        v_warning_min_mps=_kmh(110),
         v_warning_max_mps=_kmh(140),
-        t_warning_s=Fraction(2), t_driver_s=Fraction(4), t_indication_s=Fraction(2),
+        t_warning_s=Fraction(2),
+        t_driver_s=Fraction(4),
+        t_indication_s=Fraction(2),
     )
 
 
@@ -140,10 +150,46 @@ def seed002_national() -> NationalData:
     """Seed 002 §3.2: warning, FSB and EB 5 km/h apart (5 / 10 / 15 km/h over the MRSP at every speed)."""
     return dataclasses.replace(
         subset026_national(),
-        dv_warning_min_mps=_kmh(5), dv_warning_max_mps=_kmh(5),
-        dv_sbi_min_mps=_kmh(10), dv_sbi_max_mps=_kmh(10),
-        dv_ebi_min_mps=_kmh(15), dv_ebi_max_mps=_kmh(15),
+        dv_warning_min_mps=_kmh(5),
+        dv_warning_max_mps=_kmh(5),
+        dv_sbi_min_mps=_kmh(10),
+        dv_sbi_max_mps=_kmh(10),
+        dv_ebi_min_mps=_kmh(15),
+        dv_ebi_max_mps=_kmh(15),
     )
+
+
+PRESETS = {"seed000": (seed000_train, subset026_national), "seed002": (seed002_train, seed002_national)}
+"""The seeds' train and national data by name (each a function returning a fresh record)."""
+
+CYCLE_S = Fraction(1, 10)
+"""One ATP cycle (seed 001)."""
+
+DESIGN_GRADIENTS_PERMILLE = (-40, 40)
+"""The design case of the compensated gradient: the steepest falling and rising gradients the presets'
+plant data fix (per mille, uphill positive)."""
+
+
+def preset_data(train: TrainData, national: NationalData, cycle_s=CYCLE_S) -> dict:
+    """Train, national and plant data of a closed loop: the plant's delays are the train data's times less one
+    cycle (the cycle in which the last passing check was made), its guaranteed deceleration is
+    K * A_brake_emergency."""
+    from atcs.model.curves import adhesion_factor  # curves imports this module
+    from atcs.model.node import as_dict
+    from atcs.model.ops.exact import EXACT
+
+    k = adhesion_factor(EXACT, train, national)
+    return {
+        **as_dict(train),
+        **as_dict(national),
+        "gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE),
+        "service_brake_fitted": True,
+        "cycle_s": cycle_s,
+        "traction_cut_cycles": train.t_traction_s / cycle_s - 1,
+        "brake_build_up_cycles": train.t_be_s / cycle_s - 1,
+        "guaranteed_deceleration_mps2": k * min(train.emergency_decelerations_mps2),
+        "max_deceleration_mps2": Fraction(3),
+    }
 
 
 MAX_BUILD_UP_S = 20
@@ -162,12 +208,20 @@ def validate(train: TrainData, national: NationalData) -> None:
     for brake in ("emergency", "service"):
         speeds = getattr(train, f"{brake}_speeds_mps")
         decels = getattr(train, f"{brake}_decelerations_mps2")
-        check(len(speeds) == len(decels) and len(speeds) > 0, f"{brake}_speeds_mps", speeds,
-              f"not one speed per deceleration ({len(decels)} decelerations)")
+        check(
+            len(speeds) == len(decels) and len(speeds) > 0,
+            f"{brake}_speeds_mps",
+            speeds,
+            f"not one speed per deceleration ({len(decels)} decelerations)",
+        )
         check(speeds[0] == 0, f"{brake}_speeds_mps[0]", speeds[0], "not 0 (the first step starts at standstill)")
         for k in range(1, len(speeds)):
-            check(speeds[k] > speeds[k - 1], f"{brake}_speeds_mps[{k}]", speeds[k],
-                  f"not above {brake}_speeds_mps[{k - 1}] = {speeds[k - 1]!r}")
+            check(
+                speeds[k] > speeds[k - 1],
+                f"{brake}_speeds_mps[{k}]",
+                speeds[k],
+                f"not above {brake}_speeds_mps[{k - 1}] = {speeds[k - 1]!r}",
+            )
         for k, a in enumerate(decels):
             check(0 < a <= 5, f"{brake}_decelerations_mps2[{k}]", a, "outside (0, 5] m/s^2")
     for name in ("kdry_rst", "kwet_rst"):
@@ -175,8 +229,9 @@ def validate(train: TrainData, national: NationalData) -> None:
     for name in ("rotating_mass_uphill_percent", "rotating_mass_downhill_percent"):
         check(0 <= getattr(train, name) <= 50, name, getattr(train, name), "outside [0, 50] %")
     for name in ("t_be_s", "t_bs_s", "t_traction_s"):
-        check(0 <= getattr(train, name) <= MAX_BUILD_UP_S, name, getattr(train, name),
-              f"outside [0, {MAX_BUILD_UP_S}] s")
+        check(
+            0 <= getattr(train, name) <= MAX_BUILD_UP_S, name, getattr(train, name), f"outside [0, {MAX_BUILD_UP_S}] s"
+        )
     check(train.v_ura_mps >= 0, "v_ura_mps", train.v_ura_mps, "negative")
     check(0 <= national.m_nvavadh <= 1, "m_nvavadh", national.m_nvavadh, "outside [0, 1]")
     for curve in ("ebi", "sbi", "warning"):
@@ -186,5 +241,9 @@ def validate(train: TrainData, national: NationalData) -> None:
         check(0 <= vlo < vhi, f"v_{curve}_max_mps", vhi, f"not above v_{curve}_min_mps = {vlo!r}")
     for name in ("t_warning_s", "t_driver_s", "t_indication_s"):
         check(0 <= getattr(national, name) <= 60, name, getattr(national, name), "outside [0, 60] s")
-    check(national.t_driver_s >= national.t_warning_s, "t_driver_s", national.t_driver_s,
-          f"below t_warning_s = {national.t_warning_s!r} (the permitted curve must lie behind the warning curve)")
+    check(
+        national.t_driver_s >= national.t_warning_s,
+        "t_driver_s",
+        national.t_driver_s,
+        f"below t_warning_s = {national.t_warning_s!r} (the permitted curve must lie behind the warning curve)",
+    )

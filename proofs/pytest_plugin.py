@@ -1,4 +1,4 @@
-"""A pytest plugin (issue 9): the registered properties as test items, so that ``pytest --atcs-prove`` runs the
+"""A pytest plugin: the registered properties as test items, so that ``pytest --atcs-prove`` runs the
 proof suite with pytest's usual reporting (``-k``, ``-x``, ``--junitxml``, ...).
 
 Installed with atcs (entry point ``pytest11``); it adds only its options until ``--atcs-prove`` is given. Each
@@ -19,10 +19,19 @@ from atcs.properties import PROPERTIES, Property, select
 def pytest_addoption(parser):
     group = parser.getgroup("atcs", "atcs proof suite")
     group.addoption("--atcs-prove", action="store_true", help="collect the registered atcs properties as tests")
-    group.addoption("--atcs-only", metavar="PATTERN", default=None,
-                    help="only the properties whose name matches this glob (e.g. 'supervision.*')")
-    group.addoption("--atcs-timeout", metavar="SECONDS", type=float, default=600.0,
-                    help="per-property time limit, lemmas included (default 600)")
+    group.addoption(
+        "--atcs-only",
+        metavar="PATTERN",
+        default=None,
+        help="only the properties whose name matches this glob (e.g. 'supervision.*')",
+    )
+    group.addoption(
+        "--atcs-timeout",
+        metavar="SECONDS",
+        type=float,
+        default=600.0,
+        help="per-property time limit, lemmas included (default 600)",
+    )
 
 
 def pytest_configure(config):
@@ -40,8 +49,9 @@ def pytest_collection_modifyitems(session, config, items):
     if not config.getoption("--atcs-prove"):
         return
     suite = ProofSuite.from_parent(session, name="atcs-proofs")
-    items.extend(PropertyItem.from_parent(suite, name=prop.name, prop=prop)
-                 for prop in select(config.getoption("--atcs-only")))
+    items.extend(
+        PropertyItem.from_parent(suite, name=prop.name, prop=prop) for prop in select(config.getoption("--atcs-only"))
+    )
 
 
 class ProofSuite(pytest.Collector):
@@ -70,8 +80,13 @@ class PropertyItem(pytest.Item):
         timeout = self.config.getoption("--atcs-timeout")
         result = prove(self.prop, timeout_s=timeout, lemmas=PROPERTIES, proved=self.parent.proved)
         self.parent.proved[self.prop.name] = result
-        for key, value in (("requirement", self.prop.requirement), ("status", result.status),
-                           ("engine", result.engine), ("k", result.k), ("seconds", round(result.seconds, 3))):
+        for key, value in (
+            ("requirement", self.prop.requirement),
+            ("status", result.status),
+            ("engine", result.engine),
+            ("k", result.k),
+            ("seconds", round(result.seconds, 3)),
+        ):
             self.user_properties.append((key, value))
         if result.status != "proved":
             detail = f"{result.status}: {result.message}"
@@ -81,8 +96,9 @@ class PropertyItem(pytest.Item):
 
     def repr_failure(self, excinfo):
         if isinstance(excinfo.value, PropertyFailed):
-            return f"{self.prop.name} ({self.prop.requirement}, seed {self.prop.seed}): {self.prop.text}\n" \
-                   f"{excinfo.value}"
+            return (
+                f"{self.prop.name} ({self.prop.requirement}, seed {self.prop.seed}): {self.prop.text}\n{excinfo.value}"
+            )
         return super().repr_failure(excinfo)
 
     def reportinfo(self):

@@ -27,8 +27,9 @@ def write_counterexample(directory: str | Path, prop: Property, result: Result) 
         doc["smoothing"] = result.smoothing.as_json()
     write_atomic(json_path, json.dumps(doc, indent=2) + "\n")
     write_atomic(directory / f"{prop.name}.csv", to_csv(result.trace, result.replay))
-    write_atomic(directory / f"{prop.name}.vcd", to_vcd(result.trace, result.replay,
-                                                       date=time.strftime("%Y-%m-%d %H:%M:%S %Z")))
+    write_atomic(
+        directory / f"{prop.name}.vcd", to_vcd(result.trace, result.replay, date=time.strftime("%Y-%m-%d %H:%M:%S %Z"))
+    )
     plot_counterexample(prop.node, result.trace, result.replay, directory / f"{prop.name}.png")
     return json_path
 
@@ -62,17 +63,27 @@ def write_witnesses(directory: str | Path, prop: Property, result: Result) -> Pa
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     path = directory / f"{prop.name}.witnesses.json"
-    doc = {"property": prop.name, "requirement": prop.requirement,
-           "witnesses": [{"what": w.what, "step": w.step, "trace": to_json(w.trace, requirement=prop.requirement)}
-                         for w in result.witnesses]}
+    doc = {
+        "property": prop.name,
+        "requirement": prop.requirement,
+        "witnesses": [
+            {"what": w.what, "step": w.step, "trace": to_json(w.trace, requirement=prop.requirement)}
+            for w in result.witnesses
+        ],
+    }
     write_atomic(path, json.dumps(doc, indent=2) + "\n")
     return path
 
 
 def json_report(records: list[dict], *, timeout_s: float, wall_s: float) -> str:
     counts = {s: sum(r["status"] == s for r in records) for s in Status}
-    doc = {"tool": "atcs", "timeout_s": timeout_s, "wall_seconds": round(wall_s, 3), "summary": counts,
-           "properties": records}
+    doc = {
+        "tool": "atcs",
+        "timeout_s": timeout_s,
+        "wall_seconds": round(wall_s, 3),
+        "summary": counts,
+        "properties": records,
+    }
     return json.dumps(doc, indent=2) + "\n"
 
 
@@ -92,9 +103,11 @@ def junit_report(records: list[dict], *, wall_s: float) -> str:
             suite, "testcase", classname=f"atcs.{r['name'].split('.')[0]}", name=r["name"], time=f"{r['seconds']:.3f}"
         )
         ET.SubElement(case, "properties").extend(
-            [ET.Element("property", name="requirement", value=r["requirement"]),
-             ET.Element("property", name="engine", value=str(r["engine"])),
-             ET.Element("property", name="k", value=str(r["k"]))]
+            [
+                ET.Element("property", name="requirement", value=r["requirement"]),
+                ET.Element("property", name="engine", value=str(r["engine"])),
+                ET.Element("property", name="k", value=str(r["k"])),
+            ]
         )
         if r["status"] in FAILURES:
             detail = r["message"] + (f"; counterexample: {r['counterexample']}" if r["counterexample"] else "")

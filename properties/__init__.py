@@ -1,6 +1,7 @@
 """The safety properties, registered in one place (``PROPERTIES``, by name).
 
-Add a module's properties by importing its ``PROPERTIES`` tuple below.
+Each module ``<prefix>.py`` holds exactly the properties named ``<prefix>.*``; add a module's properties by
+importing its ``PROPERTIES`` tuple below (``tests/properties/test_registry.py`` checks both).
 """
 
 from __future__ import annotations
@@ -8,18 +9,23 @@ from __future__ import annotations
 import fnmatch
 
 from atcs.properties import (
+    adhesion,
     authority,
+    ceiling_offset,
     closed_loop,
     curves,
     deceleration,
     doors,
+    exceedances,
+    gradient_acceleration,
+    most_restrictive,
     mrsp,
     position,
-    preprocessing,
     resources,
     separation,
-    sub_functions,
+    stopping_point,
     supervision,
+    tacho_check,
 )
 from atcs.properties.property import Assumption, Property
 
@@ -39,9 +45,23 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 
 
 PROPERTIES: dict[str, Property] = _register(
-    supervision.PROPERTIES, mrsp.PROPERTIES, preprocessing.PROPERTIES, deceleration.PROPERTIES,
-    curves.PROPERTIES, closed_loop.PROPERTIES, position.PROPERTIES, resources.PROPERTIES,
-    authority.PROPERTIES, separation.PROPERTIES, doors.PROPERTIES, sub_functions.PROPERTIES,
+    supervision.PROPERTIES,
+    mrsp.PROPERTIES,
+    deceleration.PROPERTIES,
+    curves.PROPERTIES,
+    closed_loop.PROPERTIES,
+    position.PROPERTIES,
+    resources.PROPERTIES,
+    authority.PROPERTIES,
+    separation.PROPERTIES,
+    doors.PROPERTIES,
+    ceiling_offset.PROPERTIES,
+    adhesion.PROPERTIES,
+    gradient_acceleration.PROPERTIES,
+    most_restrictive.PROPERTIES,
+    exceedances.PROPERTIES,
+    stopping_point.PROPERTIES,
+    tacho_check.PROPERTIES,
 )
 
 

@@ -19,7 +19,13 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from atcs.model.closed_loop import CLOSED_LOOP, closed_loop_admits, worst_acceleration_mps2
+from atcs.model.closed_loop import (
+    CLOSED_LOOP,
+    closed_loop_admits,
+    whole_cycles,
+    worst_acceleration_mps2,
+    worst_case_at_brake,
+)
 from atcs.model.curves import (
     A_EST2_CAP_MPS2,
     Target,
@@ -30,39 +36,15 @@ from atcs.model.curves import (
     ebd_speed2_at,
 )
 from atcs.model.dynamic_profile import ceilings
-from atcs.model.node import as_dict
-from atcs.model.ops.exact import EXACT
 from atcs.model.plant import max_gradient_acceleration_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
-from atcs.model.train_data import seed000_train, seed002_national, seed002_train, subset026_national
-from atcs.properties.curves import DESIGN_GRADIENTS_PERMILLE, MAX_LINE_M
+from atcs.model.train_data import PRESETS as TRAIN_PRESETS
+from atcs.model.train_data import preset_data
+from atcs.properties.curves import MAX_LINE_M
 from atcs.properties.property import Assumption, Property
 
-CYCLE_S = Fraction(1, 10)
-"""One ATP cycle (seed 001)."""
-
-
-def preset_data(train, national, cycle_s=CYCLE_S) -> dict:
-    """Train, national and plant data: the plant's delays are the train data's times less one cycle (the
-    cycle in which the last passing check was made), its guaranteed deceleration is K * A_brake_emergency."""
-    data = {**as_dict(train), **as_dict(national)}
-    k = adhesion_factor(EXACT, train, national)
-    return {
-        **data,
-        "gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE),
-        "service_brake_fitted": True,
-        "cycle_s": cycle_s,
-        "traction_cut_cycles": train.t_traction_s / cycle_s - 1,
-        "brake_build_up_cycles": train.t_be_s / cycle_s - 1,
-        "guaranteed_deceleration_mps2": k * min(train.emergency_decelerations_mps2),
-        "max_deceleration_mps2": Fraction(3),
-    }
-
-
-PRESETS = {
-    "seed000": preset_data(seed000_train(), subset026_national()),
-    "seed002": preset_data(seed002_train(), seed002_national()),
-}
+PRESETS = {name: preset_data(train(), national()) for name, (train, national) in TRAIN_PRESETS.items()}
+"""The fixed data of each preset's closed-loop properties."""
 
 
 def _setting(o, p, s, i):
@@ -70,8 +52,11 @@ def _setting(o, p, s, i):
     zero = o.const(0)
     return o.and_(
         is_well_formed(o, g),
-        zero <= p.eoa_m, p.eoa_m <= p.line_end_m, p.line_end_m <= o.const(MAX_LINE_M),
-        zero <= p.mrsp_mps, p.mrsp_mps <= o.const(Fraction(MAX_SPEED_KMH) / KMH_PER_MPS),
+        zero <= p.eoa_m,
+        p.eoa_m <= p.line_end_m,
+        p.line_end_m <= o.const(MAX_LINE_M),
+        zero <= p.mrsp_mps,
+        p.mrsp_mps <= o.const(Fraction(MAX_SPEED_KMH) / KMH_PER_MPS),
         p.position_error_m >= zero,
     )
 
@@ -88,7 +73,8 @@ def _timing(o, p, s, i):
     dt = p.cycle_s
     return o.and_(
         dt > o.const(0),
-        o.const(0) <= p.traction_cut_cycles, p.traction_cut_cycles <= p.brake_build_up_cycles,
+        o.const(0) <= p.traction_cut_cycles,
+        p.traction_cut_cycles <= p.brake_build_up_cycles,
         (p.traction_cut_cycles + o.const(1)) * dt <= p.t_traction_s,
         (p.brake_build_up_cycles + o.const(1)) * dt <= p.t_be_s,
         p.guaranteed_deceleration_mps2 >= adhesion_factor(o, p, p) * p.emergency_decelerations_mps2[0],
@@ -107,9 +93,11 @@ TIMING = Assumption(
 
 def _measurement(o, p, s, i):
     return o.and_(
-        i.measured_front_m - s.front_m <= p.position_error_m, s.front_m - i.measured_front_m <= p.position_error_m,
+        i.measured_front_m - s.front_m <= p.position_error_m,
+        s.front_m - i.measured_front_m <= p.position_error_m,
         i.measured_speed_mps >= o.const(0),
-        i.measured_speed_mps - s.speed_mps <= p.v_ura_mps, s.speed_mps - i.measured_speed_mps <= p.v_ura_mps,
+        i.measured_speed_mps - s.speed_mps <= p.v_ura_mps,
+        s.speed_mps - i.measured_speed_mps <= p.v_ura_mps,
         o.implies(i.standstill, o.eq(s.speed_mps, o.const(0))),
     )
 
@@ -130,38 +118,19 @@ PLANT = Assumption(
 ASSUMPTIONS = (SETTING, TIMING, MEASUREMENT, PLANT)
 
 
-def worst_case_at_brake(o, p, front_m, speed_mps, cycles: int, traction_cycles: int, build_up_cycles: int):
-    """The farthest front and highest speed when the brake becomes effective, from ``(front_m, speed_mps)``
-    with the command given for ``cycles`` cycles so far: full traction until the cut-off, then coasting."""
-    dt = p.cycle_s
-    a_traction = worst_acceleration_mps2(o, p)
-    a_coast = max_gradient_acceleration_mps2(o, p)
-    t1 = o.const(max(0, traction_cycles - cycles)) * dt
-    t2 = o.const(build_up_cycles - max(cycles, traction_cycles)) * dt
-    v1 = speed_mps + a_traction * t1
-    front1 = front_m + (speed_mps + v1) / o.const(2) * t1
-    v2 = v1 + a_coast * t2
-    return front1 + (v1 + v2) / o.const(2) * t2, v2
-
-
 def ceiling_margin_mps(o, p, cycles: int, traction_cycles: int):
     """How far the true speed can be over the EBI ceiling after ``cycles`` cycles of EB command: V_ura and
     the acceleration since the last passing check."""
     dt = p.cycle_s
-    return (p.v_ura_mps + worst_acceleration_mps2(o, p) * dt * o.const(min(cycles, traction_cycles) + 1)
-            + max_gradient_acceleration_mps2(o, p) * dt * o.const(max(0, cycles - traction_cycles)))
+    return (
+        p.v_ura_mps
+        + worst_acceleration_mps2(o, p) * dt * o.const(min(cycles, traction_cycles) + 1)
+        + max_gradient_acceleration_mps2(o, p) * dt * o.const(max(0, cycles - traction_cycles))
+    )
 
 
 def ebi_ceiling_mps(o, p):
     return ceilings(o, p, p.mrsp_mps).ebi_mps
-
-
-def whole_cycles(preset: str, fixed: dict) -> tuple[int, int]:
-    """The plant's traction cut-off and brake build-up delays of a preset, in whole cycles."""
-    for name in ("traction_cut_cycles", "brake_build_up_cycles"):
-        if Fraction(fixed[name]).denominator != 1:
-            raise ValueError(f"closed-loop preset {preset}: {name} = {fixed[name]} is not a whole number of cycles")
-    return int(fixed["traction_cut_cycles"]), int(fixed["brake_build_up_cycles"])
 
 
 def braking_invariant(o, p, s, eoa_m, n_t: int, n_be: int):
@@ -172,14 +141,19 @@ def braking_invariant(o, p, s, eoa_m, n_t: int, n_be: int):
     cases = []
     for c in range(n_be):
         front, speed = worst_case_at_brake(o, p, s.front_m, s.speed_mps, c, n_t, n_be)
-        cases.append(o.and_(
-            o.eq(s.brake_cycles, o.const(c)),
-            front <= eoa_m, front <= ebd_location_m(o, p, p, gradient, target, speed),
-            s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, c, n_t),
-        ))
+        cases.append(
+            o.and_(
+                o.eq(s.brake_cycles, o.const(c)),
+                front <= eoa_m,
+                front <= ebd_location_m(o, p, p, gradient, target, speed),
+                s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, c, n_t),
+            )
+        )
     braking = o.and_(
-        o.eq(s.brake_cycles, o.const(n_be)), s.eb_latched,
-        s.front_m <= eoa_m, s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
+        o.eq(s.brake_cycles, o.const(n_be)),
+        s.eb_latched,
+        s.front_m <= eoa_m,
+        s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
         s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, n_be, n_t),
     )
     return o.and_(s.speed_mps >= zero, o.or_(*cases, braking))
@@ -203,7 +177,7 @@ def speed_bounded_brake_cycle_cases(n_be: int):
     """``Property.certificate_cases``: :func:`brake_cycle_cases`, each case at a speed within
     :data:`CERTIFICATE_SPEED_BOUND_MPS`; the faster states fall in the rest case, which the invariant refutes at
     once. The explicit bound is what cvc5's non-linear reasoning lacked (case 1 of
-    ``separation.no_collision_rbd_seed000``: no answer in 600 s without it, 6.7 s with it); in the engine's own
+    ``separation.no_collision_rbd_seed000`` has no answer without it, README, certify); in the engine's own
     split it stalled z3 on the coarse-cycle variant, hence a split for the certificate only (README, certify)."""
     by_brake_cycles = brake_cycle_cases(n_be)
 
@@ -259,8 +233,9 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 f"{preset}: the true speed never exceeds MRSP + dV_ebi by more than V_ura + A_est1 * T_traction "
                 "+ A_est2 * (T_be - T_traction) (the EBI's own margin, with the worst-case acceleration)."
             ),
-            holds=lambda o, p, s, i, out, nxt: s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(
-                o, p, n_be, n_t),
+            holds=lambda o, p, s, i, out, nxt: (
+                s.speed_mps <= ebi_ceiling_mps(o, p) + ceiling_margin_mps(o, p, n_be, n_t)
+            ),
             lemmas=(invariant,),
             **common,
         ),
@@ -273,7 +248,8 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "is beyond the EBI for the measured speed (the measured speed crosses the EBI)."
             ),
             holds=lambda o, p, s, i, out, nxt: o.implies(
-                i.measured_front_m + p.position_error_m > out.ebi_m, out.emergency_brake),
+                i.measured_front_m + p.position_error_m > out.ebi_m, out.emergency_brake
+            ),
             **common,
         ),
         Property(
@@ -286,7 +262,9 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "MRSP + dV_ebi, or EB is latched and not released at standstill."
             ),
             holds=_no_spurious_eb,
-            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+            node=CLOSED_LOOP,
+            assumptions=ASSUMPTIONS,
+            fixed_params=fixed,
         ),
         Property(
             name=f"closed_loop.supervises_eoa_and_ceilings_{preset}",
@@ -301,7 +279,9 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "EoA's."
             ),
             holds=_supervises_eoa_and_ceilings,
-            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+            node=CLOSED_LOOP,
+            assumptions=ASSUMPTIONS,
+            fixed_params=fixed,
         ),
         Property(
             name=f"closed_loop.state_follows_plant_and_atp_{preset}",
@@ -313,7 +293,9 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "(0 without it), and the latches record this cycle's EB and SB commands."
             ),
             holds=follows_plant_and_atp,
-            node=CLOSED_LOOP, assumptions=ASSUMPTIONS, fixed_params=fixed,
+            node=CLOSED_LOOP,
+            assumptions=ASSUMPTIONS,
+            fixed_params=fixed,
         ),
     )
 
@@ -323,9 +305,12 @@ def follows_plant_and_atp(o, p, s, i, out, nxt):
     counts the cycles of EB command up to the build-up (0 without it), the latches record the commands."""
     counted = o.min(s.brake_cycles + o.const(1), p.brake_build_up_cycles)
     return o.and_(
-        o.eq(nxt.front_m, s.front_m + i.distance_m), o.eq(nxt.speed_mps, i.next_speed_mps),
+        o.eq(nxt.front_m, s.front_m + i.distance_m),
+        o.eq(nxt.speed_mps, i.next_speed_mps),
         o.eq(nxt.brake_cycles, o.ite(out.emergency_brake, counted, o.const(0))),
-        o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake))
+        o.eq(nxt.eb_latched, out.emergency_brake),
+        o.eq(nxt.sb_latched, out.service_brake),
+    )
 
 
 def _supervises_eoa_and_ceilings(o, p, s, i, out, nxt):
@@ -347,20 +332,31 @@ def _supervises_eoa_and_ceilings(o, p, s, i, out, nxt):
 
     over_ebi = over(curve.ebi_m, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)
     over_sbi = over(curve.sbi_m, p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)
-    over_warning = over(curve.warning_m, p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps,
-                        p.v_warning_max_mps)
+    over_warning = over(
+        curve.warning_m, p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps, p.v_warning_max_mps
+    )
     over_permitted = over(curve.permitted_m, None, None, None, None)
     eb = o.or_(over_ebi, o.and_(s.eb_latched, o.not_(o.and_(i.standstill, i.eb_release))))
     sb = o.or_(over_sbi, o.and_(s.sb_latched, over_permitted))
-    return o.and_(o.eq(out.ebi_m, curve.ebi_m), o.eq(out.emergency_brake, eb), o.eq(out.service_brake, sb),
-                  o.eq(out.warning, over_warning), o.eq(out.traction_cut, o.or_(eb, sb)))
+    return o.and_(
+        o.eq(out.ebi_m, curve.ebi_m),
+        o.eq(out.emergency_brake, eb),
+        o.eq(out.service_brake, sb),
+        o.eq(out.warning, over_warning),
+        o.eq(out.traction_cut, o.or_(eb, sb)),
+    )
 
 
 def _no_spurious_eb(o, p, s, i, out, nxt):
     released = o.and_(i.standstill, i.eb_release)
-    return o.implies(out.emergency_brake, o.or_(
-        i.measured_front_m + p.position_error_m > out.ebi_m, i.measured_speed_mps > ebi_ceiling_mps(o, p),
-        o.and_(s.eb_latched, o.not_(released))))
+    return o.implies(
+        out.emergency_brake,
+        o.or_(
+            i.measured_front_m + p.position_error_m > out.ebi_m,
+            i.measured_speed_mps > ebi_ceiling_mps(o, p),
+            o.and_(s.eb_latched, o.not_(released)),
+        ),
+    )
 
 
 PROPERTIES = tuple(p for name, fixed in PRESETS.items() for p in closed_loop_properties(name, fixed))

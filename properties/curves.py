@@ -5,11 +5,11 @@ speed and acceleration, the front, the true speed and the breakpoints of a
 2-segment compensated gradient profile symbolic; train and national data fixed
 to the seed presets (``fixed_params``), one property per preset, and the gradient
 values fixed to a design case, 40 per mille downhill then 40 uphill
-(:data:`DESIGN_GRADIENTS_PERMILLE`). A third preset, ``stepped``, is the seed 000
+(:data:`~atcs.model.train_data.DESIGN_GRADIENTS_PERMILLE`). A third preset, ``stepped``, is the seed 000
 train with a three-step emergency brake (:data:`STEPPED_EMERGENCY_BRAKE`, over the
 node :data:`~atcs.model.curves.STEPPED_CURVES`), so the walk's cells over speed are
 proved about too. With symbolic gradient values the walk
-divides by a symbolic deceleration and z3 answers unknown within 120 s.
+divides by a symbolic deceleration and z3 answers unknown.
 """
 
 from __future__ import annotations
@@ -27,7 +27,13 @@ from atcs.model.curves import (
 )
 from atcs.model.node import as_dict
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
-from atcs.model.train_data import seed000_train, seed002_national, seed002_train, subset026_national
+from atcs.model.train_data import (
+    DESIGN_GRADIENTS_PERMILLE,
+    seed000_train,
+    seed002_national,
+    seed002_train,
+    subset026_national,
+)
 from atcs.properties.property import Assumption, Property
 
 MAX_GRADIENT_PERMILLE = 40
@@ -36,7 +42,6 @@ MAX_GRADIENT_PERMILLE = 40
 MAX_LINE_M = 1_000_000
 """Longest line covered (m)."""
 
-DESIGN_GRADIENTS_PERMILLE = (-40, 40)
 """The compensated gradient values the curve proofs fix: steepest downhill, then steepest uphill."""
 
 STEPPED_EMERGENCY_BRAKE = {
@@ -51,8 +56,12 @@ _DESIGN_TRACK = {"gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENT
 PRESETS = {
     "seed000": {**as_dict(seed000_train()), **as_dict(subset026_national()), **_DESIGN_TRACK},
     "seed002": {**as_dict(seed002_train()), **as_dict(seed002_national()), **_DESIGN_TRACK},
-    "stepped": {**as_dict(seed000_train()), **as_dict(subset026_national()), **_DESIGN_TRACK,
-                **STEPPED_EMERGENCY_BRAKE},
+    "stepped": {
+        **as_dict(seed000_train()),
+        **as_dict(subset026_national()),
+        **_DESIGN_TRACK,
+        **STEPPED_EMERGENCY_BRAKE,
+    },
 }
 """The fixed parameters of each preset's curve proofs: the seeds' trains, and the seed 000 train with a
 three-step emergency brake."""
@@ -64,8 +73,11 @@ def _track_and_target(o, p, s, i):
     return o.and_(
         is_well_formed(o, g),
         *(o.and_(-bound <= v, v <= bound) for v in g.values),
-        o.const(0) <= p.target_m, p.target_m <= p.line_end_m, p.line_end_m <= o.const(MAX_LINE_M),
-        o.const(0) <= p.target_speed_mps, p.target_speed_mps <= p.target_ebd_foot_mps,
+        o.const(0) <= p.target_m,
+        p.target_m <= p.line_end_m,
+        p.line_end_m <= o.const(MAX_LINE_M),
+        o.const(0) <= p.target_speed_mps,
+        p.target_speed_mps <= p.target_ebd_foot_mps,
     )
 
 
@@ -81,24 +93,30 @@ QUERY = Assumption(
     "query",
     "speed >= 0, estimated acceleration within [-A_max, A_max]",
     lambda o, p, s, i: o.and_(
-        i.speed_mps >= o.const(0), -p.max_acceleration_mps2 <= i.a_est_mps2, i.a_est_mps2 <= p.max_acceleration_mps2,
+        i.speed_mps >= o.const(0),
+        -p.max_acceleration_mps2 <= i.a_est_mps2,
+        i.a_est_mps2 <= p.max_acceleration_mps2,
     ),
 )
 
 
 def _ordered(o, p, s, i, out, nxt):
     return o.and_(
-        out.indication_m <= out.permitted_m, out.permitted_m <= out.warning_m, out.warning_m <= out.sbi_m,
-        out.sbi_m <= out.ebi_m, out.ebi_m <= out.ebd_m,
+        out.indication_m <= out.permitted_m,
+        out.permitted_m <= out.warning_m,
+        out.warning_m <= out.sbi_m,
+        out.sbi_m <= out.ebi_m,
+        out.ebi_m <= out.ebd_m,
     )
 
 
 def _spaced(o, p, s, i, out, nxt):
     v = i.speed_mps
     return o.and_(
-        o.eq(out.ebi_m - out.sbi_m, v * p.t_bs_s), o.eq(out.sbi_m - out.warning_m, v * p.t_warning_s),
-        o.eq(out.sbi_m - out.permitted_m, v * p.t_driver_s), o.eq(out.permitted_m - out.indication_m,
-                                                                    v * p.t_indication_s),
+        o.eq(out.ebi_m - out.sbi_m, v * p.t_bs_s),
+        o.eq(out.sbi_m - out.warning_m, v * p.t_warning_s),
+        o.eq(out.sbi_m - out.permitted_m, v * p.t_driver_s),
+        o.eq(out.permitted_m - out.indication_m, v * p.t_indication_s),
     )
 
 
@@ -111,9 +129,10 @@ def _ebi_protects_ebd(o, p, s, i, out, nxt):
     a_build_up = o.min(a_traction, o.const("0.4"))
     v_cut = i.true_speed_mps + a_traction * p.t_traction_s  # speed when traction is cut
     v_brake = v_cut + a_build_up * t_rem  # speed when the brake is effective
-    distance = ((i.true_speed_mps + v_cut) / o.const(2) * p.t_traction_s + (v_cut + v_brake) / o.const(2) * t_rem)
-    measured = o.and_(i.true_speed_mps >= zero, i.true_speed_mps - i.speed_mps <= accuracy,
-                      i.speed_mps - i.true_speed_mps <= accuracy)
+    distance = (i.true_speed_mps + v_cut) / o.const(2) * p.t_traction_s + (v_cut + v_brake) / o.const(2) * t_rem
+    measured = o.and_(
+        i.true_speed_mps >= zero, i.true_speed_mps - i.speed_mps <= accuracy, i.speed_mps - i.true_speed_mps <= accuracy
+    )
     ebd = ebd_location_m(o, p, p, curve_gradient(p), curve_target(p), v_brake)
     return o.implies(o.and_(measured, i.front_m <= out.ebi_m), i.front_m + distance <= ebd)
 
@@ -149,6 +168,7 @@ def _ebd_is_braking_curve(o, p, s, i, out, nxt):
 
     energy = []
     for b, a_brake in enumerate(p.emergency_decelerations_mps2):
+
         def clamp(speed, b=b):
             speed = o.max(speed, speeds[b])
             return speed if b + 1 == len(speeds) else o.min(speed, speeds[b + 1])
@@ -156,8 +176,10 @@ def _ebd_is_braking_curve(o, p, s, i, out, nxt):
         lo, hi = clamp(foot), clamp(v)
         energy.append(o.eq(hi * hi - lo * lo, o.const(2) * work(a_brake, location(hi), location(lo))))
     top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
-    return o.and_(o.implies(v <= foot, o.eq(out.ebd_m, o.const(FAR_M))),
-                  o.implies(o.and_(foot < v, v <= top), o.and_(o.eq(out.ebd_m, location(v)), *energy)))
+    return o.and_(
+        o.implies(v <= foot, o.eq(out.ebd_m, o.const(FAR_M))),
+        o.implies(o.and_(foot < v, v <= top), o.and_(o.eq(out.ebd_m, location(v)), *energy)),
+    )
 
 
 def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
@@ -168,8 +190,10 @@ def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
     v_d1 = o.max(zero, i.a_est_mps2) * t_traction
     v_d2 = o.min(o.max(zero, i.a_est_mps2), o.const(A_EST2_CAP_MPS2)) * t_berem
     v_bec = o.max(v + v_d0 + v_d1, v_target) + v_d2
-    d_bec = (o.max(v + v_d0 + v_d1 / o.const(2), v_target) * t_traction
-             + (o.max(v + v_d0 + v_d1, v_target) + v_d2 / o.const(2)) * t_berem)
+    d_bec = (
+        o.max(v + v_d0 + v_d1 / o.const(2), v_target) * t_traction
+        + (o.max(v + v_d0 + v_d1, v_target) + v_d2 / o.const(2)) * t_berem
+    )
     return o.eq(out.ebi_m, ebd_location_m(o, p, p, curve_gradient(p), curve_target(p), v_bec) - d_bec)
 
 

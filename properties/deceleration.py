@@ -72,9 +72,12 @@ PROPERTIES = (
             "part of the train give."
         ),
         node=DECELERATION,
-        holds=lambda o, p, s, i, out, nxt: out.safe_deceleration_mps2 <= (
-            braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps)
-            + gradient_deceleration_mps2(o, value_at(o, gradient_profile_of(p), i.probe_m), p.rotating_mass_percent)
+        holds=lambda o, p, s, i, out, nxt: (
+            out.safe_deceleration_mps2
+            <= (
+                braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps)
+                + gradient_deceleration_mps2(o, value_at(o, gradient_profile_of(p), i.probe_m), p.rotating_mass_percent)
+            )
         ),
         assumptions=ASSUMPTIONS,
     ),
@@ -88,8 +91,10 @@ PROPERTIES = (
         ),
         node=DECELERATION,
         holds=lambda o, p, s, i, out, nxt: o.eq(
-            (out.safe_deceleration_mps2
-             - braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps))
+            (
+                out.safe_deceleration_mps2
+                - braking_deceleration_mps2(o, p.brake_speeds_mps, p.brake_decelerations_mps2, i.speed_mps)
+            )
             * (o.const(1000) + o.const(10) * p.rotating_mass_percent),
             o.const(Fraction(981, 100)) * out.compensated_gradient_permille,
         ),

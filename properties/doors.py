@@ -22,8 +22,10 @@ PROBES = Assumption(
     name="probes",
     text="front_min <= probe_front <= front_max and first_door <= probe_door <= last_door",
     holds=lambda o, p, s, i: o.and_(
-        i.front_min_m <= i.probe_front_m, i.probe_front_m <= i.front_max_m,
-        p.first_door_m <= i.probe_door_m, i.probe_door_m <= p.last_door_m,
+        i.front_min_m <= i.probe_front_m,
+        i.probe_front_m <= i.front_max_m,
+        p.first_door_m <= i.probe_door_m,
+        i.probe_door_m <= p.last_door_m,
     ),
 )
 
@@ -48,8 +50,12 @@ def safe_to_open(o, p, i, side: str):
         i.position_valid,
         i.stopping_point_m - i.stop_tolerance_m <= i.probe_front_m,
         i.probe_front_m <= i.stopping_point_m + i.stop_tolerance_m,
-        o.or_(*(o.and_(on_side[j], i.platform_start_m[j] <= door_at_m, door_at_m <= i.platform_end_m[j])
-                for j in range(len(on_side)))),
+        o.or_(
+            *(
+                o.and_(on_side[j], i.platform_start_m[j] <= door_at_m, door_at_m <= i.platform_end_m[j])
+                for j in range(len(on_side))
+            )
+        ),
     )
 
 
@@ -59,12 +65,23 @@ def conditions_met(o, p, i, side: str):
     every front."""
     on_side = getattr(i, f"platform_{side}")
     return o.and_(
-        getattr(i, f"request_{side}"), i.standstill, o.eq(i.speed_mps, o.const(0)), i.immobilised, i.position_valid,
+        getattr(i, f"request_{side}"),
+        i.standstill,
+        o.eq(i.speed_mps, o.const(0)),
+        i.immobilised,
+        i.position_valid,
         i.stopping_point_m - i.stop_tolerance_m <= i.front_min_m,
         i.front_max_m <= i.stopping_point_m + i.stop_tolerance_m,
-        o.or_(*(o.and_(on_side[j], i.platform_start_m[j] <= i.front_min_m - p.last_door_m,
-                       i.front_max_m - p.first_door_m <= i.platform_end_m[j])
-                for j in range(len(on_side)))),
+        o.or_(
+            *(
+                o.and_(
+                    on_side[j],
+                    i.platform_start_m[j] <= i.front_min_m - p.last_door_m,
+                    i.front_max_m - p.first_door_m <= i.platform_end_m[j],
+                )
+                for j in range(len(on_side))
+            )
+        ),
     )
 
 
@@ -101,9 +118,7 @@ PROPERTIES = (
         name="doors.traction_cut_while_unlocked",
         requirement="DOOR-03",
         seed="004 §2.3.3, Fig. 1",
-        text=(
-            "While any door is not closed and locked, traction is cut and the train is not driven by its own power."
-        ),
+        text=("While any door is not closed and locked, traction is cut and the train is not driven by its own power."),
         node=DOOR_LOOP,
         holds=lambda o, p, s, i, out, nxt: o.implies(
             o.or_(s.door_open_left, s.door_open_right),
@@ -171,13 +186,20 @@ PROPERTIES = (
             "while it is enabled and no close command is given."
         ),
         node=DCU,
-        holds=lambda o, p, s, i, out, nxt: o.and_(*(
-            o.and_(
-                o.implies(o.and_(getattr(i, f"enable_{side}"), getattr(i, f"open_{side}")),
-                          getattr(nxt, f"door_open_{side}")),
-                o.implies(o.and_(getattr(s, f"door_open_{side}"), getattr(i, f"enable_{side}"), o.not_(i.close)),
-                          getattr(nxt, f"door_open_{side}")),
-            ) for side in ("left", "right")
-        )),
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            *(
+                o.and_(
+                    o.implies(
+                        o.and_(getattr(i, f"enable_{side}"), getattr(i, f"open_{side}")),
+                        getattr(nxt, f"door_open_{side}"),
+                    ),
+                    o.implies(
+                        o.and_(getattr(s, f"door_open_{side}"), getattr(i, f"enable_{side}"), o.not_(i.close)),
+                        getattr(nxt, f"door_open_{side}"),
+                    ),
+                )
+                for side in ("left", "right")
+            )
+        ),
     ),
 )

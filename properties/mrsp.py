@@ -4,12 +4,18 @@ The node :data:`~atcs.model.mrsp.MRSP` has every breakpoint, limit and the train
 length symbolic: up to 4 PISL segments and 2 segments of each of TISL, PTSL and
 TTSL (a profile with fewer segments is the same profile split at extra
 breakpoints with equal limits). The line starts at 0.
+
+Seed 002's preprocessed MRSP (§3.2, equations 1 and 2, Fig. 4 and 5): the materialized profiles of
+:mod:`atcs.model.psl` are checked against the definition the other MRSP properties are proved about
+(:func:`~atcs.model.profile.lowest_under_train`, the lowest limit under the train), for every profile up
+to the nodes' capacities, all symbolic.
 """
 
 from __future__ import annotations
 
 from atcs.model.mrsp import MRSP, mrsp_profiles
-from atcs.model.profile import is_well_formed, min_over, value_at
+from atcs.model.profile import Profile, is_well_formed, lowest_under_train, min_over, value_at
+from atcs.model.psl import MRSP_UPDATE, PSL, UPDATE_WINDOW, filter_convex_bumps, psl_profiles
 from atcs.properties.property import Assumption, Property
 from atcs.properties.under_train import TRAIN_ON_LINE, rear_m
 
@@ -32,6 +38,84 @@ PROFILES_WELL_FORMED = Assumption(
 
 
 ASSUMPTIONS = (PROFILES_WELL_FORMED, TRAIN_ON_LINE)
+
+
+def _restriction_ok(o, p, start, end, limit, first_allowed):
+    return o.and_(first_allowed <= start, start < end, end <= p.line_end_m, limit > o.const(0))
+
+
+def _psl_data_ok(o, p, s, i):
+    profiles = psl_profiles(p)
+    return o.and_(
+        p.train_length_m >= o.const(0),
+        *(is_well_formed(o, profile) for profile in profiles),
+        *(v > o.const(0) for profile in profiles for v in profile.values),
+    )
+
+
+def _update_data_ok(o, p, s, i):
+    psl = Profile(p.psl_starts_m, p.psl_limits_mps, p.line_end_m)
+    lo, _ = UPDATE_WINDOW
+    return o.and_(
+        p.train_length_m >= o.const(0),
+        is_well_formed(o, psl),
+        *(v > o.const(0) for v in psl.values),
+        _restriction_ok(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps, psl.starts_m[lo]),
+        _restriction_ok(o, p, p.other_start_m, p.other_end_m, p.other_limit_mps, o.const(0)),
+    )
+
+
+FRONT_ON_LINE = Assumption(
+    "front_on_line",
+    "0 <= front < line end",
+    lambda o, p, s, i: o.and_(o.const(0) <= i.front_m, i.front_m < p.line_end_m),
+)
+
+PSL_DATA = Assumption(
+    "psl_data_well_formed",
+    "PISL and PTSL start at 0, their breakpoints increase strictly up to the line end, their limits are "
+    "positive; the train length is >= 0",
+    _psl_data_ok,
+)
+
+UPDATE_DATA = Assumption(
+    "update_data_well_formed",
+    "the PSL starts at 0, increases strictly up to the line end, with positive limits; both restrictions "
+    "lie on the line with positive lengths and limits; the updated one starts in the window's first "
+    "segment or later (what bisection guarantees); the train length is >= 0",
+    _update_data_ok,
+)
+
+
+def _matches_definition(o, p, s, i, out, nxt):
+    pisl, ptsl = psl_profiles(p)
+    return o.eq(out.psl_mps, lowest_under_train(o, (pisl, ptsl), p.train_length_m, i.front_m))
+
+
+def _as_profile(o, p, start_m, end_m, limit_mps) -> Profile:
+    """A restriction as a TISL profile of the line (no limit outside it: the highest limit around)."""
+    top = o.max(limit_mps, p.tsr_limit_mps, p.other_limit_mps, *p.psl_limits_mps)
+    return Profile((o.const(0), start_m, end_m), (top, limit_mps, top), p.line_end_m)
+
+
+def _restricted_matches_definition(o, p, s, i, out, nxt):
+    restrictions = (
+        _as_profile(o, p, p.tsr_start_m, p.tsr_end_m, p.tsr_limit_mps),
+        _as_profile(o, p, p.other_start_m, p.other_end_m, p.other_limit_mps),
+    )
+    return o.eq(
+        out.applied_full_mps, o.min(out.psl_mps, lowest_under_train(o, restrictions, p.train_length_m, i.front_m))
+    )
+
+
+def _filter_neutral(o, p, s, i, out, nxt):
+    pisl, _ = psl_profiles(p)
+    filtered = filter_convex_bumps(o, pisl, p.train_length_m)
+    return o.eq(
+        lowest_under_train(o, (filtered,), p.train_length_m, i.front_m),
+        lowest_under_train(o, (pisl,), p.train_length_m, i.front_m),
+    )
+
 
 PROPERTIES = (
     Property(
@@ -65,9 +149,60 @@ PROPERTIES = (
             "under the train, so with MRSP-02 it is the largest profile that respects them."
         ),
         node=MRSP,
-        holds=lambda o, p, s, i, out, nxt: out.mrsp_mps >= o.min(
-            *(min_over(o, profile, rear_m(o, p, i), i.front_m) for profile in mrsp_profiles(p))
+        holds=lambda o, p, s, i, out, nxt: (
+            out.mrsp_mps >= o.min(*(min_over(o, profile, rear_m(o, p, i), i.front_m) for profile in mrsp_profiles(p)))
         ),
         assumptions=ASSUMPTIONS,
+    ),
+    Property(
+        name="mrsp.psl_matches_definition",
+        requirement="MRSP-04",
+        seed="002 §3.2 (equation 1, Fig. 5(a) to 5(d))",
+        text=(
+            "The materialized PSL (PISL with its short convex bumps filtered, and PTSL, each extended by the "
+            "train length, merged) equals at every position the lowest PISL or PTSL limit under the train."
+        ),
+        node=PSL,
+        holds=_matches_definition,
+        assumptions=(PSL_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.restricted_matches_definition",
+        requirement="MRSP-05",
+        seed="002 §3.2 (equation 2, Fig. 5(e), 5(f))",
+        text=(
+            "The materialized MRSP with two temporary restrictions merged into the PSL equals at every position "
+            "the lower of the PSL and the lowest restriction under the train."
+        ),
+        node=MRSP_UPDATE,
+        holds=_restricted_matches_definition,
+        assumptions=(UPDATE_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.bump_filter_neutral",
+        requirement="MRSP-06",
+        seed="002 §3.2 (Fig. 4(d), 4(e))",
+        text=(
+            "Removing the convex bumps shorter than the train from PISL does not change the lowest PISL limit "
+            "under the train at any position."
+        ),
+        node=PSL,
+        holds=_filter_neutral,
+        assumptions=(PSL_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.incremental_equals_full",
+        requirement="MRSP-07",
+        seed="002 §3.2",
+        text=(
+            "Applying or withdrawing a temporary restriction by recomputing only [start, end + L) from the PSL "
+            "gives, at every position, the MRSP recomputed over the whole line (with another restriction active)."
+        ),
+        node=MRSP_UPDATE,
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.eq(out.applied_incremental_mps, out.applied_full_mps),
+            o.eq(out.withdrawn_incremental_mps, out.withdrawn_full_mps),
+        ),
+        assumptions=(UPDATE_DATA, FRONT_ON_LINE),
     ),
 )

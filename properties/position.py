@@ -23,9 +23,13 @@ def _table(o, p, s, i):
     return o.and_(
         *(o.not_(o.eq(ids[j], ids[k])) for j in range(n) for k in range(j + 1, n)),
         *(positions[j] < positions[j + 1] for j in range(n - 1)),
-        o.const(0) <= p.tacho_error, p.tacho_error < o.const(1), o.const(0) <= p.tag_window_m,
-        o.const(0) < p.train_length_m, o.const(MIN_CYCLE_S) <= p.cycle_s,
-        o.const(0) <= p.max_acceleration_mps2, o.const(0) <= p.max_deceleration_mps2,
+        o.const(0) <= p.tacho_error,
+        p.tacho_error < o.const(1),
+        o.const(0) <= p.tag_window_m,
+        o.const(0) < p.train_length_m,
+        o.const(MIN_CYCLE_S) <= p.cycle_s,
+        o.const(0) <= p.max_acceleration_mps2,
+        o.const(0) <= p.max_deceleration_mps2,
     )
 
 
@@ -40,17 +44,25 @@ TACHOMETER = Assumption(
     "tachometer",
     "the train never moves backward, and the true distance of each cycle is within tacho_error * d of the "
     "tachometer's d",
-    lambda o, p, s, i: o.and_(o.const(0) <= i.distance_m, i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
-                              i.tacho_m - i.distance_m <= p.tacho_error * i.tacho_m),
+    lambda o, p, s, i: o.and_(
+        o.const(0) <= i.distance_m,
+        i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
+        i.tacho_m - i.distance_m <= p.tacho_error * i.tacho_m,
+    ),
 )
 
 
 def _genuine_tag(o, p, s, i):
     front = s.front_m + i.distance_m
-    return o.implies(i.tag_read, o.or_(*(
-        o.and_(o.eq(i.tag_id, tag_id), tag_m - p.tag_window_m <= front, front <= tag_m + p.tag_window_m)
-        for tag_id, tag_m in zip(p.tag_ids, p.tag_positions_m, strict=True)
-    )))
+    return o.implies(
+        i.tag_read,
+        o.or_(
+            *(
+                o.and_(o.eq(i.tag_id, tag_id), tag_m - p.tag_window_m <= front, front <= tag_m + p.tag_window_m)
+                for tag_id, tag_m in zip(p.tag_ids, p.tag_positions_m, strict=True)
+            )
+        ),
+    )
 
 
 TAG_READER = Assumption(
@@ -65,9 +77,13 @@ def _kinematics(o, p, s, i):
     a, d = p.max_acceleration_mps2, p.max_deceleration_mps2
     v, v_next, x = s.speed_mps, i.next_speed_mps, i.distance_m
     return o.and_(
-        v_next >= zero, v_next - v <= a * dt, v - v_next <= d * dt,
-        x >= v_next * dt - a * dt * dt / two, x <= v_next * dt + d * dt * dt / two,
-        x - s.last_distance_m <= a * dt * dt, s.last_distance_m - x <= d * dt * dt,
+        v_next >= zero,
+        v_next - v <= a * dt,
+        v - v_next <= d * dt,
+        x >= v_next * dt - a * dt * dt / two,
+        x <= v_next * dt + d * dt * dt / two,
+        x - s.last_distance_m <= a * dt * dt,
+        s.last_distance_m - x <= d * dt * dt,
         o.implies(o.eq(x, zero), o.eq(v_next, zero)),
     )
 
@@ -116,8 +132,10 @@ def _odometry(o, p, s, i, j):
     """The min and max safe front past tag j by the tachometer (DESIGN.md odometry), before any reset."""
     offset = s.offset_m + i.tacho_m
     ref = p.tag_positions_m[j]
-    return (ref + (o.const(1) - p.tacho_error) * offset - p.tag_window_m,
-            ref + (o.const(1) + p.tacho_error) * offset + p.tag_window_m)
+    return (
+        ref + (o.const(1) - p.tacho_error) * offset - p.tag_window_m,
+        ref + (o.const(1) + p.tacho_error) * offset + p.tag_window_m,
+    )
 
 
 def _reads_next(o, p, s, i):
@@ -134,9 +152,14 @@ def _lrt_in_table(o, p, s, i, out, nxt):
 
 def _front_between_lrt_and_next(o, p, s, i, out, nxt):
     positions, n = p.tag_positions_m, len(p.tag_positions_m)
-    within = [o.and_(o.eq(s.lrt_index, o.const(j)), positions[j] <= s.front_m,
-                     *((s.front_m < positions[j + 1],) if j + 1 < n else ()))
-              for j in range(n)]
+    within = [
+        o.and_(
+            o.eq(s.lrt_index, o.const(j)),
+            positions[j] <= s.front_m,
+            *((s.front_m < positions[j + 1],) if j + 1 < n else ()),
+        )
+        for j in range(n)
+    ]
     return o.implies(s.localised, o.or_(*within))
 
 
@@ -161,15 +184,19 @@ def _speed_within_accuracy(o, p, s, i, out, nxt):
 
 def _supervised_on_true_speed(o, p, s, i, out, nxt):
     v = nxt.speed_mps
-    return o.and_(o.implies(v > i.ebi_mps, out.emergency_brake),
-                  o.implies(v > i.sbi_mps, o.or_(out.service_brake, out.emergency_brake)),
-                  o.implies(v > i.warning_mps, out.warning))
+    return o.and_(
+        o.implies(v > i.ebi_mps, out.emergency_brake),
+        o.implies(v > i.sbi_mps, o.or_(out.service_brake, out.emergency_brake)),
+        o.implies(v > i.warning_mps, out.warning),
+    )
 
 
 def _no_intervention_at_permitted(o, p, s, i, out, nxt):
     bound = out.speed_est_mps + out.speed_accuracy_mps
-    return o.implies(o.and_(o.not_(s.eb_latched), out.position_valid, bound <= i.permitted_mps),
-                     o.not_(o.or_(out.service_brake, out.emergency_brake, out.traction_cut, out.warning)))
+    return o.implies(
+        o.and_(o.not_(s.eb_latched), out.position_valid, bound <= i.permitted_mps),
+        o.not_(o.or_(out.service_brake, out.emergency_brake, out.traction_cut, out.warning)),
+    )
 
 
 def _unknown_tag(o, p, s, i, out, nxt):
@@ -191,16 +218,21 @@ def _tag_outside_window(o, p, s, i, out, nxt):
 
 
 def _missed_tag(o, p, s, i, out, nxt):
-    passed = [o.and_(at, _odometry(o, p, s, i, j)[0] > next_m + p.tag_window_m)
-              for j, (at, _, next_m) in enumerate(_next_tag(o, p, s))]
+    passed = [
+        o.and_(at, _odometry(o, p, s, i, j)[0] > next_m + p.tag_window_m)
+        for j, (at, _, next_m) in enumerate(_next_tag(o, p, s))
+    ]
     return o.implies(o.and_(s.localised, o.not_(_reads_next(o, p, s, i)), o.or_(*passed)), _invalid(o, out))
 
 
 def _implausible_tacho(o, p, s, i, out, nxt):
     dt2, slack = p.cycle_s * p.cycle_s, p.tacho_error * (i.tacho_m + s.last_tacho_m)
     change = i.tacho_m - s.last_tacho_m
-    implausible = o.or_(i.tacho_m < o.const(0), change > p.max_acceleration_mps2 * dt2 + slack,
-                        -change > p.max_deceleration_mps2 * dt2 + slack)
+    implausible = o.or_(
+        i.tacho_m < o.const(0),
+        change > p.max_acceleration_mps2 * dt2 + slack,
+        -change > p.max_deceleration_mps2 * dt2 + slack,
+    )
     return o.implies(implausible, _invalid(o, out))
 
 
@@ -222,78 +254,112 @@ def _no_fault_within_window(o, p, s, i, out, nxt):
 
 def _property(name, requirement, text, holds, assumptions=(), lemmas=(), seed="001 §3.2"):
     return Property(
-        name=f"position.{name}", requirement=requirement, seed=seed, text=text, node=POSITION_LOOP, holds=holds,
-        assumptions=assumptions, lemmas=tuple(f"position.{lemma}" for lemma in lemmas),
+        name=f"position.{name}",
+        requirement=requirement,
+        seed=seed,
+        text=text,
+        node=POSITION_LOOP,
+        holds=holds,
+        assumptions=assumptions,
+        lemmas=tuple(f"position.{lemma}" for lemma in lemmas),
     )
 
 
 PROPERTIES = (
     _property("lrt_in_table", "POS-00", "The last read tag is always an entry of the tag table.", _lrt_in_table),
     _property(
-        "front_in_interval", "POS-01",
+        "front_in_interval",
+        "POS-01",
         "While the position is valid, the true front is within [min safe front, max safe front], across tag "
         "resets, for any forward motion (tachometer and tag reader within their stated errors).",
-        _front_in_interval, (TABLE, TACHOMETER, TAG_READER), seed="001 §3.2 (Fig. 7), 002 §3.1; DESIGN.md odometry",
+        _front_in_interval,
+        (TABLE, TACHOMETER, TAG_READER),
+        seed="001 §3.2 (Fig. 7), 002 §3.1; DESIGN.md odometry",
     ),
     _property(
-        "rear_in_interval", "POS-02",
+        "rear_in_interval",
+        "POS-02",
         "The rear interval and estimate are the front's shifted back by the train length, and while the position "
         "is valid the true rear is within the rear interval.",
-        _rear_in_interval, (TABLE, TACHOMETER, TAG_READER), ("front_in_interval",),
+        _rear_in_interval,
+        (TABLE, TACHOMETER, TAG_READER),
+        ("front_in_interval",),
     ),
     _property(
-        "speed_within_accuracy", "POS-03",
+        "speed_within_accuracy",
+        "POS-03",
         "The true speed at the end of each cycle is within the stated accuracy (tacho_error * estimate + "
         "max(A, D) * cycle / 2) of the estimated speed (distance per cycle).",
-        _speed_within_accuracy, (TABLE, TACHOMETER, KINEMATICS), seed="001 §3.2, 002 §3.1",
+        _speed_within_accuracy,
+        (TABLE, TACHOMETER, KINEMATICS),
+        seed="001 §3.2, 002 §3.1",
     ),
     _property(
-        "unexpected_tag_invalidates", "POS-04",
-        "A tag read that is not the table's next tag after the last read tag invalidates the position in that "
-        "cycle.", _unexpected_tag, (TABLE,), ("lrt_in_table",),
+        "unexpected_tag_invalidates",
+        "POS-04",
+        "A tag read that is not the table's next tag after the last read tag invalidates the position in that cycle.",
+        _unexpected_tag,
+        (TABLE,),
+        ("lrt_in_table",),
     ),
     _property(
-        "unknown_tag_invalidates", "POS-05",
-        "A tag id that is not in the tag table invalidates the position in that cycle.", _unknown_tag,
+        "unknown_tag_invalidates",
+        "POS-05",
+        "A tag id that is not in the tag table invalidates the position in that cycle.",
+        _unknown_tag,
     ),
     _property(
-        "tag_outside_window_invalidates", "POS-06",
+        "tag_outside_window_invalidates",
+        "POS-06",
         "The next tag read where the odometry interval excludes its window invalidates the position in that cycle.",
-        _tag_outside_window, (TABLE,), ("lrt_in_table",),
+        _tag_outside_window,
+        (TABLE,),
+        ("lrt_in_table",),
     ),
     _property(
-        "missed_tag_invalidates", "POS-07",
+        "missed_tag_invalidates",
+        "POS-07",
         "Once the min safe front is past the next tag's window without a read of it, the position is invalid in "
-        "that cycle.", _missed_tag, (TABLE,), ("lrt_in_table",),
+        "that cycle.",
+        _missed_tag,
+        (TABLE,),
+        ("lrt_in_table",),
     ),
     _property(
-        "implausible_tacho_invalidates", "POS-08",
+        "implausible_tacho_invalidates",
+        "POS-08",
         "A tachometer increment that is negative or changes by more than the acceleration bounds and the "
         "tachometer error allow (standstill while running, spin, slide) invalidates the position in that cycle.",
         _implausible_tacho,
     ),
     _property(
-        "eb_while_invalid", "POS-09",
+        "eb_while_invalid",
+        "POS-09",
         "EB is commanded in every cycle the position is invalid (from power-up until the first tag, and after "
         "any fault).",
         lambda o, p, s, i, out, nxt: o.implies(_invalid(o, out), out.emergency_brake),
     ),
     _property(
-        "eb_held_while_moving", "POS-10",
+        "eb_held_while_moving",
+        "POS-10",
         "Once commanded, EB is held while the train moves: it is released only in a cycle in which the train "
         "is truly at standstill.",
-        lambda o, p, s, i, out, nxt: o.implies(o.and_(s.eb_latched, nxt.speed_mps > o.const(0)),
-                                               out.emergency_brake),
-        (TABLE, TACHOMETER, KINEMATICS), seed="001 §3.2, 000 §2.4.3",
+        lambda o, p, s, i, out, nxt: o.implies(o.and_(s.eb_latched, nxt.speed_mps > o.const(0)), out.emergency_brake),
+        (TABLE, TACHOMETER, KINEMATICS),
+        seed="001 §3.2, 000 §2.4.3",
     ),
     _property(
-        "front_between_lrt_and_next", "POS-11",
+        "front_between_lrt_and_next",
+        "POS-11",
         "With a fault-free tag reader, while the position is valid the true front is at or past the last read "
         "tag and short of the next one in the table.",
-        _front_between_lrt_and_next, (TABLE, TACHOMETER, READER_COMPLETE), ("lrt_in_table",),
+        _front_between_lrt_and_next,
+        (TABLE, TACHOMETER, READER_COMPLETE),
+        ("lrt_in_table",),
     ),
     _property(
-        "no_false_alarm", "POS-12",
+        "no_false_alarm",
+        "POS-12",
         "Availability (so the claims above are not vacuous): with sensors within their stated errors, a "
         "fault-free tag reader and motion within the acceleration bounds, a valid position stays valid.",
         lambda o, p, s, i, out, nxt: o.implies(s.localised, out.position_valid),
@@ -302,32 +368,43 @@ PROPERTIES = (
     ),
     # the supervision of the measured speed's upper bound (survivors of atcs mutate)
     _property(
-        "supervised_on_true_speed", "POS-13",
+        "supervised_on_true_speed",
+        "POS-13",
         "The loop supervises the true speed: EB whenever the true speed at the end of the cycle is above EBI, a "
         "brake above SBI, the warning above the warning limit.",
-        _supervised_on_true_speed, (TABLE, TACHOMETER, KINEMATICS), ("speed_within_accuracy",),
+        _supervised_on_true_speed,
+        (TABLE, TACHOMETER, KINEMATICS),
+        ("speed_within_accuracy",),
         seed="001 §3.2, 000 §2.4.3",
     ),
     _property(
-        "no_intervention_at_permitted", "POS-14",
+        "no_intervention_at_permitted",
+        "POS-14",
         "Not over-restrictive: with EB not latched, the position valid and the speed's upper bound (estimate plus "
         "accuracy) at or under the permitted speed, no brake, no traction cut and no warning.",
-        _no_intervention_at_permitted, (CURVE_ORDER,), seed="001 §3.2, 000 §2.4.2",
+        _no_intervention_at_permitted,
+        (CURVE_ORDER,),
+        seed="001 §3.2, 000 §2.4.2",
     ),
     # the tag checks not stricter than stated (survivors of atcs mutate: POS-12 needs a fault-free reader, so
     # it says nothing at the windows' edges, and nothing from power-up)
     _property(
-        "localises_at_known_tag", "POS-15",
+        "localises_at_known_tag",
+        "POS-15",
         "From power-up or after a fault, the first read of a tag of the table (tachometer plausible: sensors "
         "within their stated errors, motion within the acceleration bounds) makes the position valid.",
-        _localises_at_known_tag, (TABLE, TACHOMETER, KINEMATICS),
+        _localises_at_known_tag,
+        (TABLE, TACHOMETER, KINEMATICS),
     ),
     _property(
-        "no_fault_within_window", "POS-16",
+        "no_fault_within_window",
+        "POS-16",
         "The tag window's edges are inclusive: a valid position stays valid when the next tag is read with the "
         "odometry interval meeting its window, or when no tag is read while the min safe front is not past the "
         "next tag's window (tachometer plausible as for POS-15).",
-        _no_fault_within_window, (TABLE, TACHOMETER, KINEMATICS), ("lrt_in_table",),
+        _no_fault_within_window,
+        (TABLE, TACHOMETER, KINEMATICS),
+        ("lrt_in_table",),
     ),
 )
 

@@ -50,10 +50,15 @@ def _setting(o, p, s, i):
     eoa = follower_authority(o, p, s, i)[1].eoa_m
     return o.and_(
         is_well_formed(o, plant_gradient(p)),
-        p.line_end_m <= o.const(MAX_LINE_M), zero <= p.safety_margin_m, p.position_error_m >= zero,
-        zero <= p.mrsp_mps, p.mrsp_mps <= o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS),
+        p.line_end_m <= o.const(MAX_LINE_M),
+        zero <= p.safety_margin_m,
+        p.position_error_m >= zero,
+        zero <= p.mrsp_mps,
+        p.mrsp_mps <= o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS),
         p.leader_max_deceleration_mps2 >= o.const(MIN_SPAN),
-        zero <= eoa, eoa <= p.line_end_m, s.leader_rear_m + i.leader_distance_m <= p.line_end_m,
+        zero <= eoa,
+        eoa <= p.line_end_m,
+        s.leader_rear_m + i.leader_distance_m <= p.line_end_m,
     )
 
 
@@ -80,12 +85,18 @@ REPORT_REAR = Assumption(
 
 
 def _leader_braking(o, p, s, i):
-    d, dt, v, v_next, x = p.leader_max_deceleration_mps2, p.cycle_s, s.leader_speed_mps, i.leader_next_speed_mps, \
-        i.leader_distance_m
+    d, dt, v, v_next, x = (
+        p.leader_max_deceleration_mps2,
+        p.cycle_s,
+        s.leader_speed_mps,
+        i.leader_next_speed_mps,
+        i.leader_distance_m,
+    )
     two = o.const(2)
     return o.and_(
         d >= o.const(MIN_SPAN),
-        v_next * v_next >= v * v - two * d * x, v_next >= v - d * dt,
+        v_next * v_next >= v * v - two * d * x,
+        v_next >= v - d * dt,
         o.or_(two * d * x >= v * v, o.and_(v >= d * dt, x >= v * dt - d * dt * dt / two)),
     )
 
@@ -104,9 +115,13 @@ REPORT_STOP = Assumption(
     "report_stop",
     "a report's min speed is >= 0 and the earliest stopping point it gives is at most the leader's current one "
     "(true of a past state: that point never moves back, SEP-04)",
-    lambda o, p, s, i: o.implies(i.report_delivered, o.and_(
-        i.report_speed_mps >= o.const(0),
-        earliest_stop_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m)),
+    lambda o, p, s, i: o.implies(
+        i.report_delivered,
+        o.and_(
+            i.report_speed_mps >= o.const(0),
+            earliest_stop_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m,
+        ),
+    ),
 )
 
 
@@ -148,13 +163,18 @@ MARGIN = Assumption(
 def _authority_on_safe_position(o, p, s, i, out, nxt):
     """The end of authority is the authority node's for the follower's max safe front (measured front + odometry
     bound) and min safe rear (measured front - bound - train length), the other inputs as delivered."""
-    position = {"front_max_m": i.measured_front_m + p.position_error_m,
-                "rear_min_m": i.measured_front_m - p.position_error_m - p.train_length_m}
-    inputs = AuthorityInputs(**{f.name: position[f.name] if f.name in position else getattr(i, f.name)
-                                for f in fields(AuthorityInputs)})
+    position = {
+        "front_max_m": i.measured_front_m + p.position_error_m,
+        "rear_min_m": i.measured_front_m - p.position_error_m - p.train_length_m,
+    }
+    inputs = AuthorityInputs(
+        **{f.name: position[f.name] if f.name in position else getattr(i, f.name) for f in fields(AuthorityInputs)}
+    )
     reports, authority = authority_step(o, p, s, inputs)
-    return o.and_(o.eq(out.eoa_m, authority.eoa_m),
-                  *(o.eq(getattr(nxt, f.name), getattr(reports, f.name)) for f in fields(AuthorityState)))
+    return o.and_(
+        o.eq(out.eoa_m, authority.eoa_m),
+        *(o.eq(getattr(nxt, f.name), getattr(reports, f.name)) for f in fields(AuthorityState)),
+    )
 
 
 def _state_follows(o, p, s, i, out, nxt):
@@ -163,7 +183,8 @@ def _state_follows(o, p, s, i, out, nxt):
     leader_rear = s.leader_rear_m + i.leader_distance_m
     return o.and_(
         follows_plant_and_atp(o, p, s, i, out, nxt),
-        o.eq(nxt.leader_rear_m, leader_rear), o.eq(nxt.leader_speed_mps, i.leader_next_speed_mps),
+        o.eq(nxt.leader_rear_m, leader_rear),
+        o.eq(nxt.leader_speed_mps, i.leader_next_speed_mps),
         o.eq(nxt.leader_stop_m, earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)),
     )
 
@@ -190,28 +211,48 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     never_recedes = f"separation.leader_stop_never_recedes_{preset}"
     name = {"bw": "brick-wall", "rbd": "relative braking"}[mode]
     authority = Property(
-        name=f"separation.authority_on_safe_position_{mode}_{preset}", requirement="SEP-05",
+        name=f"separation.authority_on_safe_position_{mode}_{preset}",
+        requirement="SEP-05",
         seed="001 §3.2 (Fig. 5), 000 §2.2",
-        text=(f"{preset}, {name}: the follower's end of authority and the report bounds it keeps are its authority "
-              "node's for its max safe front (measured front plus the odometry bound) and min safe rear (less the "
-              "bound and the train length)."),
-        holds=_authority_on_safe_position, assumptions=assumptions, **common,
+        text=(
+            f"{preset}, {name}: the follower's end of authority and the report bounds it keeps are its authority "
+            "node's for its max safe front (measured front plus the odometry bound) and min safe rear (less the "
+            "bound and the train length)."
+        ),
+        holds=_authority_on_safe_position,
+        assumptions=assumptions,
+        **common,
     )
     state_follows = Property(
-        name=f"separation.state_follows_{mode}_{preset}", requirement="SEP-06", seed="000 §2.5; DESIGN.md closed loop",
-        text=(f"{preset}, {name}: each cycle the follower's front, speed, brake counter and latches follow its plant "
-              "and ATP as in the closed loop (CL-05), the leader's rear advances by its distance run, its speed "
-              "becomes its end speed, and its earliest stopping point is its physics' from those."),
-        holds=_state_follows, assumptions=assumptions, **common,
+        name=f"separation.state_follows_{mode}_{preset}",
+        requirement="SEP-06",
+        seed="000 §2.5; DESIGN.md closed loop",
+        text=(
+            f"{preset}, {name}: each cycle the follower's front, speed, brake counter and latches follow its plant "
+            "and ATP as in the closed loop (CL-05), the leader's rear advances by its distance run, its speed "
+            "becomes its end speed, and its earliest stopping point is its physics' from those."
+        ),
+        holds=_state_follows,
+        assumptions=assumptions,
+        **common,
     )
     reports_behind = Property(
-        name=reports, requirement="SEP-00", seed="001 §3.2",
-        text=(f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
-              "never ahead of the leader's true ones."),
+        name=reports,
+        requirement="SEP-00",
+        seed="001 §3.2",
+        text=(
+            f"{preset}, {name}: the best leader rear and earliest stopping point reported to the follower are "
+            "never ahead of the leader's true ones."
+        ),
         holds=(lambda o, p, s, i, out, nxt: o.and_(s.leader_known, s.best_rear_m <= s.leader_rear_m))
-        if mode == "bw" else (lambda o, p, s, i, out, nxt: o.and_(
-            s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m)),
-        assumptions=assumptions, **common,
+        if mode == "bw"
+        else (
+            lambda o, p, s, i, out, nxt: o.and_(
+                s.leader_known, s.best_rear_m <= s.leader_rear_m, s.best_stop_m <= s.leader_stop_m
+            )
+        ),
+        assumptions=assumptions,
+        **common,
     )
     if mode == "bw":
         return (
@@ -219,66 +260,110 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             state_follows,
             reports_behind,
             Property(
-                name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
-                text=(f"{preset}, brick wall: the closed loop's braking invariant (CL-00) holds for the leader's "
-                      "true rear less the safety margin as the end of authority."),
+                name=invariant,
+                requirement="SEP-01",
+                seed="001 §3.2 (Fig. 6), 000 §2.4",
+                text=(
+                    f"{preset}, brick wall: the closed loop's braking invariant (CL-00) holds for the leader's "
+                    "true rear less the safety margin as the end of authority."
+                ),
                 holds=lambda o, p, s, i, out, nxt: braking_invariant(
-                    o, p, s, s.leader_rear_m - p.safety_margin_m, n_t, n_be),
-                assumptions=assumptions, lemmas=(reports,), **brake_cycle_splits(n_be), **common,
+                    o, p, s, s.leader_rear_m - p.safety_margin_m, n_t, n_be
+                ),
+                assumptions=assumptions,
+                lemmas=(reports,),
+                **brake_cycle_splits(n_be),
+                **common,
             ),
             Property(
-                name=f"separation.no_collision_bw_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
-                text=(f"{preset}, brick wall: whatever the leader does (within its assumptions) and whatever the "
-                      "follower's driver or ATO commands, the follower's true front stays at least the safety "
-                      "margin behind the leader's true rear, with reports delayed, reordered or lost."),
+                name=f"separation.no_collision_bw_{preset}",
+                requirement="SEP-02",
+                seed="001 §3.2, 000 §2.5",
+                text=(
+                    f"{preset}, brick wall: whatever the leader does (within its assumptions) and whatever the "
+                    "follower's driver or ATO commands, the follower's true front stays at least the safety "
+                    "margin behind the leader's true rear, with reports delayed, reordered or lost."
+                ),
                 holds=lambda o, p, s, i, out, nxt: s.front_m + p.safety_margin_m <= s.leader_rear_m,
-                assumptions=assumptions, lemmas=(invariant,), **common,
+                assumptions=assumptions,
+                lemmas=(invariant,),
+                **common,
             ),
         )
     return (
         Property(
-            name=earliest, requirement="SEP-03", seed="001 §3.2 (Fig. 6)",
-            text=(f"{preset}: the leader's speed is >= 0 and its earliest stopping point is its true rear plus its "
-                  "stopping distance from its true speed at its highest deceleration."),
-            holds=lambda o, p, s, i, out, nxt: o.and_(s.leader_speed_mps >= o.const(0), o.eq(
-                o.const(2) * p.leader_max_deceleration_mps2 * (s.leader_stop_m - s.leader_rear_m),
-                s.leader_speed_mps * s.leader_speed_mps)),
-            assumptions=assumptions, **common,
+            name=earliest,
+            requirement="SEP-03",
+            seed="001 §3.2 (Fig. 6)",
+            text=(
+                f"{preset}: the leader's speed is >= 0 and its earliest stopping point is its true rear plus its "
+                "stopping distance from its true speed at its highest deceleration."
+            ),
+            holds=lambda o, p, s, i, out, nxt: o.and_(
+                s.leader_speed_mps >= o.const(0),
+                o.eq(
+                    o.const(2) * p.leader_max_deceleration_mps2 * (s.leader_stop_m - s.leader_rear_m),
+                    s.leader_speed_mps * s.leader_speed_mps,
+                ),
+            ),
+            assumptions=assumptions,
+            **common,
         ),
         Property(
-            name=never_recedes, requirement="SEP-04", seed="001 §3.2 (Fig. 6)",
-            text=(f"{preset}: the leader's earliest stopping point never moves back (it never brakes harder than its "
-                  "highest deceleration), so every report's stopping point bounds every later one from below."),
+            name=never_recedes,
+            requirement="SEP-04",
+            seed="001 §3.2 (Fig. 6)",
+            text=(
+                f"{preset}: the leader's earliest stopping point never moves back (it never brakes harder than its "
+                "highest deceleration), so every report's stopping point bounds every later one from below."
+            ),
             holds=lambda o, p, s, i, out, nxt: nxt.leader_stop_m >= s.leader_stop_m,
-            assumptions=assumptions, lemmas=(earliest,), **common,
+            assumptions=assumptions,
+            lemmas=(earliest,),
+            **common,
         ),
         authority,
         state_follows,
         reports_behind,
         Property(
-            name=invariant, requirement="SEP-01", seed="001 §3.2 (Fig. 6), 000 §2.4",
-            text=(f"{preset}, relative braking: once the leader has reported, the rear bound kept is never ahead "
-                  "of the stopping-point bound, and the closed loop's braking invariant (CL-00) holds for the "
-                  "best reported stopping point less the safety margin (never ahead of the leader's true one, "
-                  "SEP-00) as the end of authority; nothing about the leader is assumed."),
+            name=invariant,
+            requirement="SEP-01",
+            seed="001 §3.2 (Fig. 6), 000 §2.4",
+            text=(
+                f"{preset}, relative braking: once the leader has reported, the rear bound kept is never ahead "
+                "of the stopping-point bound, and the closed loop's braking invariant (CL-00) holds for the "
+                "best reported stopping point less the safety margin (never ahead of the leader's true one, "
+                "SEP-00) as the end of authority; nothing about the leader is assumed."
+            ),
             holds=lambda o, p, s, i, out, nxt: o.and_(
-                s.leader_known, s.best_rear_m <= s.best_stop_m,
-                braking_invariant(o, p, s, s.best_stop_m - p.safety_margin_m, n_t, n_be)),
-            assumptions=FOLLOWER, **brake_cycle_splits(n_be), **common,
+                s.leader_known,
+                s.best_rear_m <= s.best_stop_m,
+                braking_invariant(o, p, s, s.best_stop_m - p.safety_margin_m, n_t, n_be),
+            ),
+            assumptions=FOLLOWER,
+            **brake_cycle_splits(n_be),
+            **common,
         ),
         Property(
-            name=f"separation.no_collision_rbd_{preset}", requirement="SEP-02", seed="001 §3.2, 000 §2.5",
-            text=(f"{preset}, relative braking: whatever the leader does (never braking harder than its highest "
-                  "deceleration) and whatever the follower's driver or ATO commands, the follower's true front "
-                  "stays behind the leader's true rear, with reports delayed, reordered or lost."),
+            name=f"separation.no_collision_rbd_{preset}",
+            requirement="SEP-02",
+            seed="001 §3.2, 000 §2.5",
+            text=(
+                f"{preset}, relative braking: whatever the leader does (never braking harder than its highest "
+                "deceleration) and whatever the follower's driver or ATO commands, the follower's true front "
+                "stays behind the leader's true rear, with reports delayed, reordered or lost."
+            ),
             holds=lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m,
-            assumptions=(*assumptions, MARGIN), lemmas=(invariant, reports, earliest), **brake_cycle_splits(n_be),
+            assumptions=(*assumptions, MARGIN),
+            lemmas=(invariant, reports, earliest),
+            **brake_cycle_splits(n_be),
             **common,
         ),
     )
 
 
-PROPERTIES = tuple(p for name, fixed in PRESETS.items() for mode in ("bw", "rbd")
-                   for p in separation_properties(name, fixed, mode))
+PROPERTIES = tuple(
+    p for name, fixed in PRESETS.items() for mode in ("bw", "rbd") for p in separation_properties(name, fixed, mode)
+)
 
 __all__ = ["BRICK_WALL", "FOLLOWER", "MARGIN", "PROPERTIES", "RELATIVE", "separation_properties"]

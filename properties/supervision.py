@@ -128,11 +128,15 @@ PROPERTIES = (
             "a service brake, or while latched and not released at standstill."
         ),
         node=SUPERVISION,
-        holds=lambda o, p, s, i, out, nxt: o.implies(out.emergency_brake, o.or_(
-            i.speed_mps > i.ebi_mps, o.not_(i.position_valid),
-            o.and_(i.speed_mps > i.sbi_mps, o.not_(p.service_brake_fitted)),
-            o.and_(s.eb_latched, o.not_(o.and_(i.standstill, i.eb_release))),
-        )),
+        holds=lambda o, p, s, i, out, nxt: o.implies(
+            out.emergency_brake,
+            o.or_(
+                i.speed_mps > i.ebi_mps,
+                o.not_(i.position_valid),
+                o.and_(i.speed_mps > i.sbi_mps, o.not_(p.service_brake_fitted)),
+                o.and_(s.eb_latched, o.not_(o.and_(i.standstill, i.eb_release))),
+            ),
+        ),
     ),
     Property(
         name="supervision.state_records_commands",
@@ -140,8 +144,9 @@ PROPERTIES = (
         seed="000 §2.4.3 (Fig. 11)",
         text="The latches record this cycle's commands: next cycle's EB and SB latches are this cycle's EB and SB.",
         node=SUPERVISION,
-        holds=lambda o, p, s, i, out, nxt: o.and_(o.eq(nxt.eb_latched, out.emergency_brake),
-                                                  o.eq(nxt.sb_latched, out.service_brake)),
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.eq(nxt.eb_latched, out.emergency_brake), o.eq(nxt.sb_latched, out.service_brake)
+        ),
     ),
     Property(
         name="supervision.warning_only_above_warning_limit",

@@ -81,6 +81,5 @@ class DoubleTrack:
         L, M = self.length_m, self._mirror_m
         ends = [*starts_m[1:], L]
         down = [(M - end, -v if negate else v) for start, end, v in zip(starts_m, ends, values, strict=True)]
-        pieces = [*zip(starts_m, values, strict=True), (L, turn_back_value), *reversed(down),
-                  (M, turn_back_value)]
+        pieces = [*zip(starts_m, values, strict=True), (L, turn_back_value), *reversed(down), (M, turn_back_value)]
         return [s for s, _ in pieces], [v for _, v in pieces]

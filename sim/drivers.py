@@ -35,7 +35,8 @@ def worst_case_driver(p: PlantParams, s: PlantState, measured_speed_mps, mrsp_mp
     v = s.speed_mps
     if brake_effective(o, p, s, emergency_brake):
         decel = p.guaranteed_deceleration_mps2 + max(
-            gradient_braking_at(p, s.front_m), gradient_braking_at(p, s.front_m + v * dt))
+            gradient_braking_at(p, s.front_m), gradient_braking_at(p, s.front_m + v * dt)
+        )
         if v <= decel * dt:
             return Fraction(0), v * v / (2 * decel)
         return v - decel * dt, v * dt - decel * dt * dt / 2

@@ -1,4 +1,4 @@
-"""Headway at a steady speed (issue 8; seed 001 §3.2 Fig. 6, seed 000 §2.4-2.5): the least gap (front of the
+"""Headway at a steady speed (seed 001 §3.2 Fig. 6, seed 000 §2.4-2.5): the least gap (front of the
 follower to rear of the leader) at which a follower can run at its leader's steady speed, in relative-braking and
 brick-wall modes, three ways:
 
@@ -34,7 +34,7 @@ from typing import Any
 
 from atcs.model.ato import FAR, ato_target_speed
 from atcs.model.authority import AuthorityInputs, AuthorityState, leader_limit_m, leader_reports, stopping_point_m
-from atcs.model.closed_loop import worst_acceleration_mps2
+from atcs.model.closed_loop import whole_cycles, worst_acceleration_mps2, worst_case_at_brake
 from atcs.model.curves import FAR_M, Target, ebd_location_m
 from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, supervise_position
 from atcs.model.errors import AtcsInputError
@@ -45,10 +45,10 @@ from atcs.model.position import odometry_interval, speed_accuracy_mps
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import extend_by_train_length
 from atcs.model.separation import TwoTrainParams, TwoTrainState, earliest_stop_m
-from atcs.model.train_data import TrainData
-from atcs.properties.closed_loop import preset_data, whole_cycles, worst_case_at_brake
+from atcs.model.train_data import TrainData, preset_data
+from atcs.sim.ato_driver import ATO_LOOKAHEAD_S
 from atcs.sim.scenario import PRESETS, Scenario, load_scenario
-from atcs.sim.simulator import ATO_LOOKAHEAD_S, Simulation
+from atcs.sim.simulator import Simulation
 
 MODES = {"relative_braking": "rbd", "brick_wall": "bw"}
 """The scenario's ``[atp] mode`` names and the separation properties' (``rbd``, ``bw``); either is accepted."""
@@ -111,8 +111,16 @@ def _number(name: str, value, *, zero_ok: bool = False) -> Fraction:
 def _figure(mode: str, kind: str, speed_kmh: Fraction, gap_m, length_m, exact=None, **details) -> HeadwayFigure:
     speed_mps = speed_kmh / KMH_PER_MPS
     headway = (Fraction(gap_m) + Fraction(length_m)) / speed_mps
-    return HeadwayFigure(mode=mode, kind=kind, speed_kmh=float(speed_kmh), gap_m=float(gap_m),
-                         headway_s=float(headway), train_length_m=float(length_m), exact_gap_m=exact, details=details)
+    return HeadwayFigure(
+        mode=mode,
+        kind=kind,
+        speed_kmh=float(speed_kmh),
+        gap_m=float(gap_m),
+        headway_s=float(headway),
+        train_length_m=float(length_m),
+        exact_gap_m=exact,
+        details=details,
+    )
 
 
 # --- the scenario both the theory and the measurement use ---------------------------------------------------------
@@ -123,16 +131,33 @@ def _toml_number(x) -> str:
     return str(x.numerator) if x.denominator == 1 else repr(float(x))
 
 
-def scenario_text(mode: str, speed_kmh=80, *, resource_length_m=50, duration_s=200, follower_depart_s=0,
-                  safety_margin_m=20, report_timeout_s=2, tag_window_m="2.5", tacho_error="0.01", max_ma_m=1500,
-                  planning_decel_kmhps="1.5", ato_margin_m=30, preset: str = "seed000") -> str:
+def scenario_text(
+    mode: str,
+    speed_kmh=80,
+    *,
+    resource_length_m=50,
+    duration_s=200,
+    follower_depart_s=0,
+    safety_margin_m=20,
+    report_timeout_s=2,
+    tag_window_m="2.5",
+    tacho_error="0.01",
+    max_ma_m=1500,
+    planning_decel_kmhps="1.5",
+    ato_margin_m=30,
+    preset: str = "seed000",
+) -> str:
     """A scenario (the TOML of ``sim/scenarios/seed000_slow_leader.toml``, seed 000 §2.5): a level line limited to
     ``speed_kmh``, tags every 100 m, two trains of ``preset``, the follower powered up on the tag one spacing
     behind the leader's rear and departing ``follower_depart_s`` after it."""
     mode = _mode(mode)
     speed, duration = _number("speed_kmh", speed_kmh), _number("duration_s", duration_s)
-    for name, value in (("resource_length_m", resource_length_m), ("max_ma_m", max_ma_m),
-                        ("report_timeout_s", report_timeout_s), ("planning_decel_kmhps", planning_decel_kmhps)):
+    for name, value in (
+        ("resource_length_m", resource_length_m),
+        ("max_ma_m", max_ma_m),
+        ("report_timeout_s", report_timeout_s),
+        ("planning_decel_kmhps", planning_decel_kmhps),
+    ):
         _number(name, value)
     depart = _number("follower_depart_s", follower_depart_s, zero_ok=True)
     if not depart < duration:
@@ -146,33 +171,36 @@ def scenario_text(mode: str, speed_kmh=80, *, resource_length_m=50, duration_s=2
     trains = "".join(
         f'\n[[trains]]\nname = "{name}"\npreset = "{preset}"\nfront_m = {n(front)}\nmax_speed_kmh = {n(speed)}\n'
         f"depart_s = {n(dep)}\n"
-        for name, front, dep in (("leader", LEADER_FRONT_M, 0), ("follower", follower_front, depart)))
-    return "\n".join((
-        f'name = "headway_{mode}"',
-        'seed = "001 §3.2, 000 §2.5"',
-        f'description = "A leader at {n(speed)} km/h and a follower right behind it: the steady-state headway."',
-        f"duration_s = {n(duration)}",
-        "cycle_s = 0.1",
-        "",
-        "[line]",
-        f"length_m = {line_m}",
-        f"tag_spacing_m = {TAG_SPACING_M}",
-        f"resource_length_m = {n(resource_length_m)}",
-        f"max_ma_m = {n(max_ma_m)}",
-        f"speed_limits = [{{ start_m = 0, kmh = {n(speed)} }}]",
-        "",
-        "[atp]",
-        f'mode = "{mode}"',
-        f"safety_margin_m = {n(safety_margin_m)}",
-        f"report_timeout_s = {n(report_timeout_s)}",
-        f"tag_window_m = {n(tag_window_m)}",
-        f"tacho_error = {n(tacho_error)}",
-        "",
-        "[ato]",
-        f"planning_decel_kmhps = {n(planning_decel_kmhps)}",
-        f"margin_m = {n(ato_margin_m)}",
-        trains,
-    ))
+        for name, front, dep in (("leader", LEADER_FRONT_M, 0), ("follower", follower_front, depart))
+    )
+    return "\n".join(
+        (
+            f'name = "headway_{mode}"',
+            'seed = "001 §3.2, 000 §2.5"',
+            f'description = "A leader at {n(speed)} km/h and a follower right behind it: the steady-state headway."',
+            f"duration_s = {n(duration)}",
+            "cycle_s = 0.1",
+            "",
+            "[line]",
+            f"length_m = {line_m}",
+            f"tag_spacing_m = {TAG_SPACING_M}",
+            f"resource_length_m = {n(resource_length_m)}",
+            f"max_ma_m = {n(max_ma_m)}",
+            f"speed_limits = [{{ start_m = 0, kmh = {n(speed)} }}]",
+            "",
+            "[atp]",
+            f'mode = "{mode}"',
+            f"safety_margin_m = {n(safety_margin_m)}",
+            f"report_timeout_s = {n(report_timeout_s)}",
+            f"tag_window_m = {n(tag_window_m)}",
+            f"tacho_error = {n(tacho_error)}",
+            "",
+            "[ato]",
+            f"planning_decel_kmhps = {n(planning_decel_kmhps)}",
+            f"margin_m = {n(ato_margin_m)}",
+            trains,
+        )
+    )
 
 
 def headway_scenario(mode: str, speed_kmh=80, *, follower_data: TrainData | None = None, **options) -> Scenario:
@@ -199,14 +227,14 @@ class Setting:
     """The two-train node's parameters (:mod:`atcs.model.separation`): the follower's train, national, plant and
     authority data, on the scenario's (uniform) compensated gradient."""
     data: dict
-    """:func:`~atcs.properties.closed_loop.preset_data` of the follower (what the separation properties fix)."""
+    """:func:`~atcs.model.train_data.preset_data` of the follower (what the separation properties fix)."""
     position_error_m: Fraction
     speed_error_mps: Fraction
 
 
 def headway_setting(scenario: Scenario, *, position_error_m=None, speed_error_mps=None) -> Setting:
     """The follower's data for ``scenario``: its authority data as the simulator builds it (the leader's highest
-    deceleration, margin, timeout), the plant data of :func:`~atcs.properties.closed_loop.preset_data` and the
+    deceleration, margin, timeout), the plant data of :func:`~atcs.model.train_data.preset_data` and the
     errors: ``position_error_m``, how far the follower's max safe front is ahead of its true front and the leader's
     reported min safe rear behind its true rear (default: the odometry interval's half-width just before a tag,
     :func:`~atcs.model.position.odometry_interval`), ``speed_error_mps``, how far the reported min speed is under
@@ -220,20 +248,33 @@ def headway_setting(scenario: Scenario, *, position_error_m=None, speed_error_mp
     gradient = extend_by_train_length(EXACT, line, spec.data.train_length_m)
     mrsp_mps = min(scenario.speed_limits_kmh[0].value, spec.max_speed_kmh) / KMH_PER_MPS
     floats = follower.position.params  # the simulator's (float) position data, taken exactly
-    position = dataclasses.replace(floats, **{name: Fraction(getattr(floats, name)) for name in (
-        "tag_window_m", "tacho_error", "cycle_s", "max_acceleration_mps2", "max_deceleration_mps2")})
+    position = dataclasses.replace(
+        floats,
+        **{
+            name: Fraction(getattr(floats, name))
+            for name in ("tag_window_m", "tacho_error", "cycle_s", "max_acceleration_mps2", "max_deceleration_mps2")
+        },
+    )
     if position_error_m is None:
         spacing = scenario.tag_spacing_m
         position_error_m = odometry_interval(EXACT, position, Fraction(0), spacing)[1] - spacing
     if speed_error_mps is None:
         speed_error_mps = speed_accuracy_mps(EXACT, position, mrsp_mps)
-    errors = {name: _number(name, value, zero_ok=True)
-              for name, value in (("position_error_m", position_error_m), ("speed_error_mps", speed_error_mps))}
-    params = TwoTrainParams(**{
-        **data, **as_dict(follower.authority_params),
-        "gradient_starts_m": gradient.starts_m, "gradient_permille": gradient.values, "line_end_m": line_m,
-        "mrsp_mps": mrsp_mps, "position_error_m": errors["position_error_m"],
-    })
+    errors = {
+        name: _number(name, value, zero_ok=True)
+        for name, value in (("position_error_m", position_error_m), ("speed_error_mps", speed_error_mps))
+    }
+    params = TwoTrainParams(
+        **{
+            **data,
+            **as_dict(follower.authority_params),
+            "gradient_starts_m": gradient.starts_m,
+            "gradient_permille": gradient.values,
+            "line_end_m": line_m,
+            "mrsp_mps": mrsp_mps,
+            "position_error_m": errors["position_error_m"],
+        }
+    )
     return Setting(scenario, params, data, **errors)
 
 
@@ -243,16 +284,25 @@ def steady_state(p: TwoTrainParams, gap_m, speed_mps, front_m=Fraction(0)) -> Tw
     know: the report's stopping point is the ATP's :func:`~atcs.model.authority.stopping_point_m`)."""
     rear = front_m + gap_m
     return TwoTrainState(
-        front_m=front_m, speed_mps=speed_mps, brake_cycles=Fraction(0), eb_latched=False, sb_latched=False,
-        leader_known=True, best_rear_m=rear, best_stop_m=stopping_point_m(EXACT, p, rear, speed_mps),
-        since_report_s=Fraction(0), leader_rear_m=rear, leader_speed_mps=speed_mps,
-        leader_stop_m=earliest_stop_m(EXACT, p, rear, speed_mps))
+        front_m=front_m,
+        speed_mps=speed_mps,
+        brake_cycles=Fraction(0),
+        eb_latched=False,
+        sb_latched=False,
+        leader_known=True,
+        best_rear_m=rear,
+        best_stop_m=stopping_point_m(EXACT, p, rear, speed_mps),
+        since_report_s=Fraction(0),
+        leader_rear_m=rear,
+        leader_speed_mps=speed_mps,
+        leader_stop_m=earliest_stop_m(EXACT, p, rear, speed_mps),
+    )
 
 
 def _invariant_gap(setting: Setting, speed_mps: Fraction) -> tuple[Fraction, dict]:
     """The least gap for SEP-01 at ``speed_mps``, from the invariant's own terms (its case of no EB command,
     :func:`~atcs.properties.closed_loop.braking_invariant`): the worst-case front when the brake is effective
-    (:func:`~atcs.properties.closed_loop.worst_case_at_brake`) and the EBD from there to a stop
+    (:func:`~atcs.model.closed_loop.worst_case_at_brake`) and the EBD from there to a stop
     (:func:`~atcs.model.curves.ebd_location_m`), plus the margin, less the leader's stopping distance in relative
     braking (:func:`~atcs.model.authority.stopping_point_m`)."""
     p, o, zero = setting.params, EXACT, Fraction(0)
@@ -263,9 +313,13 @@ def _invariant_gap(setting: Setting, speed_mps: Fraction) -> tuple[Fraction, dic
     braking_m = max(zero, -ebd_location_m(o, p, p, plant_gradient(p), Target(zero, zero, zero), speed_at_brake))
     credit = zero if p.brick_wall else stopping_point_m(o, p, zero, speed_mps)
     gap = run_m + braking_m + p.safety_margin_m - credit
-    return gap, {"run_to_brake_m": float(run_m), "speed_at_brake_kmh": float(speed_at_brake * KMH_PER_MPS),
-                 "braking_m": float(braking_m), "leader_stopping_m": float(credit),
-                 "safety_margin_m": float(p.safety_margin_m)}
+    return gap, {
+        "run_to_brake_m": float(run_m),
+        "speed_at_brake_kmh": float(speed_at_brake * KMH_PER_MPS),
+        "braking_m": float(braking_m),
+        "leader_stopping_m": float(credit),
+        "safety_margin_m": float(p.safety_margin_m),
+    }
 
 
 def _bisect(holds, what: str) -> Fraction:
@@ -285,7 +339,7 @@ def _bisect(holds, what: str) -> Fraction:
 def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> dict[str, Fraction]:
     """The least gap for each limit on running at ``speed_mps`` (the follower's true front at 0): its max safe front
     at or behind each curve's location for its speed (``ebd`` ... ``indication``, seed 000 §2.4); ``traction``:
-    the ATO's lookahead ahead of it too (:data:`~atcs.sim.simulator.ATO_LOOKAHEAD_S`: the ATO still
+    the ATO's lookahead ahead of it too (:data:`~atcs.sim.ato_driver.ATO_LOOKAHEAD_S`: the ATO still
     accelerates); ``ato``: the ATO's target speed (seed 003, :func:`~atcs.model.ato.ato_target_speed` with the
     scenario's planning deceleration and margin and an MA end at speed 0, as the simulator gives it) stays the line
     speed. ``route_locked_*``: the same with the end of authority capped at ``locked_behind_m`` behind the leader's
@@ -301,10 +355,23 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
 
     def eoa_m(gap, route_locked):
         rear_min = gap - setting.position_error_m
-        reports = leader_reports(o, p, AuthorityState(False, zero, zero, zero), AuthorityInputs(
-            front_max_m=front_max, rear_min_m=-p.train_length_m, held=(), switch_locked=(), switch_reversed=(),
-            report_delivered=True, report_rear_m=rear_min, report_speed_mps=report_speed, zone_active=False,
-            zone_start_m=zero))
+        reports = leader_reports(
+            o,
+            p,
+            AuthorityState(False, zero, zero, zero),
+            AuthorityInputs(
+                front_max_m=front_max,
+                rear_min_m=-p.train_length_m,
+                held=(),
+                switch_locked=(),
+                switch_reversed=(),
+                report_delivered=True,
+                report_rear_m=rear_min,
+                report_speed_mps=report_speed,
+                zone_active=False,
+                zone_start_m=zero,
+            ),
+        )
         limit = leader_limit_m(o, p, reports)
         return min(limit, rear_min - locked_behind_m) if route_locked else limit
 
@@ -313,25 +380,44 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
         return supervise_position(o, p, p, horizon, front_max, speed_mps, a_est)[1]
 
     def ato_cruises(gap, route_locked):
-        target = ato_target_speed(o, front_m=front_max, speed_mps=speed_mps, line_limit_mps=p.mrsp_mps,
-                                  train_max_mps=p.mrsp_mps, next_limit_m=Fraction(FAR_M), next_limit_mps=p.mrsp_mps,
-                                  ma_end_m=eoa_m(gap, route_locked), ma_speed_mps=zero,
-                                  planning_decel_mps2=planning_mps2, margin_m=setting.scenario.ato_margin_m)
+        target = ato_target_speed(
+            o,
+            front_m=front_max,
+            speed_mps=speed_mps,
+            line_limit_mps=p.mrsp_mps,
+            train_max_mps=p.mrsp_mps,
+            next_limit_m=Fraction(FAR_M),
+            next_limit_mps=p.mrsp_mps,
+            ma_end_m=eoa_m(gap, route_locked),
+            ma_speed_mps=zero,
+            planning_decel_mps2=planning_mps2,
+            margin_m=setting.scenario.ato_margin_m,
+        )
         return target.reason == FAR
 
     gaps = {}
-    for prefix, locked in (("", False), ("route_locked_", True))[:1 if locked_behind_m is None else 2]:
+    for prefix, locked in (("", False), ("route_locked_", True))[: 1 if locked_behind_m is None else 2]:
         for name in CURVE_NAMES:
-            gaps[prefix + name] = _bisect(lambda g, n=name, r=locked: front_max <= getattr(curves(g, r), f"{n}_m"),
-                                          f"the {name} curve")
-        gaps[prefix + "traction"] = _bisect(lambda g, r=locked: front_max + lookahead_m < curves(g, r).indication_m,
-                                            "the ATO's traction lookahead")
+            gaps[prefix + name] = _bisect(
+                lambda g, n=name, r=locked: front_max <= getattr(curves(g, r), f"{n}_m"), f"the {name} curve"
+            )
+        gaps[prefix + "traction"] = _bisect(
+            lambda g, r=locked: front_max + lookahead_m < curves(g, r).indication_m, "the ATO's traction lookahead"
+        )
         gaps[prefix + "ato"] = _bisect(lambda g, r=locked: ato_cruises(g, r), "the ATO's target speed")
     return gaps
 
 
-def theoretical_minimum(mode: str, speed_kmh=80, *, limit: str = "atp", position_error_m=None, speed_error_mps=None,
-                        follower_data: TrainData | None = None, **options) -> HeadwayFigure:
+def theoretical_minimum(
+    mode: str,
+    speed_kmh=80,
+    *,
+    limit: str = "atp",
+    position_error_m=None,
+    speed_error_mps=None,
+    follower_data: TrainData | None = None,
+    **options,
+) -> HeadwayFigure:
     """The least gap and headway at a steady ``speed_kmh`` behind a leader at the same speed (seed 001 §3.2 Fig. 6):
     ``limit="invariant"``, the proved separation invariant's bound; ``limit="atp"``, the least the ATP's supervision
     lets the follower run at (module docstring). The errors: :func:`headway_setting`; ``follower_data``: the
@@ -342,22 +428,41 @@ def theoretical_minimum(mode: str, speed_kmh=80, *, limit: str = "atp", position
     scenario = headway_scenario(mode, speed_kmh, follower_data=follower_data, **options)
     setting = headway_setting(scenario, position_error_m=position_error_m, speed_error_mps=speed_error_mps)
     p, speed_mps = setting.params, speed_kmh / KMH_PER_MPS
-    data = {"leader_max_deceleration_mps2": float(p.leader_max_deceleration_mps2),
-            "guaranteed_deceleration_mps2": float(p.guaranteed_deceleration_mps2)}
+    data = {
+        "leader_max_deceleration_mps2": float(p.leader_max_deceleration_mps2),
+        "guaranteed_deceleration_mps2": float(p.guaranteed_deceleration_mps2),
+    }
     if limit == "invariant":
         gap, terms = _invariant_gap(setting, speed_mps)
         return _figure(mode, limit, speed_kmh, gap, p.train_length_m, gap, **data, **terms)
     gaps = _atp_gaps(setting, speed_mps, Fraction(0))
-    return _figure(mode, limit, speed_kmh, gaps["indication"], p.train_length_m, gaps["indication"], **data,
-                   position_error_m=float(setting.position_error_m), speed_error_mps=float(setting.speed_error_mps),
-                   **{f"{name}_m": float(g) for name, g in gaps.items()})
+    return _figure(
+        mode,
+        limit,
+        speed_kmh,
+        gaps["indication"],
+        p.train_length_m,
+        gaps["indication"],
+        **data,
+        position_error_m=float(setting.position_error_m),
+        speed_error_mps=float(setting.speed_error_mps),
+        **{f"{name}_m": float(g) for name, g in gaps.items()},
+    )
 
 
 # --- the measurement ----------------------------------------------------------------------------------------------
 
 
-def sim_limited_gap(mode: str, speed_kmh=80, *, locked_behind_m=0, position_error_m=None, speed_error_mps=None,
-                    follower_data: TrainData | None = None, **options) -> Fraction:
+def sim_limited_gap(
+    mode: str,
+    speed_kmh=80,
+    *,
+    locked_behind_m=0,
+    position_error_m=None,
+    speed_error_mps=None,
+    follower_data: TrainData | None = None,
+    **options,
+) -> Fraction:
     """The least gap at which the simulator's follower cruises at ``speed_kmh`` by the theory: the larger of the
     gaps its indication point and its ATO's target speed need (:func:`theoretical_minimum`, ``route_locked_*``),
     with its end of authority ``locked_behind_m`` behind the leader's min safe rear (0: the first resource the
@@ -370,9 +475,20 @@ def sim_limited_gap(mode: str, speed_kmh=80, *, locked_behind_m=0, position_erro
     return max(gaps["route_locked_indication"], gaps["route_locked_ato"])
 
 
-def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_s=200, follower_depart_s=None,
-                     approach_m=15, settle_s=60, settle_m=5, speed_tolerance_kmh=2,
-                     follower_data: TrainData | None = None, **options) -> HeadwayFigure:
+def measured_minimum(
+    mode: str,
+    speed_kmh=80,
+    *,
+    resource_length_m=50,
+    duration_s=200,
+    follower_depart_s=None,
+    approach_m=15,
+    settle_s=60,
+    settle_m=5,
+    speed_tolerance_kmh=2,
+    follower_data: TrainData | None = None,
+    **options,
+) -> HeadwayFigure:
     """The steady-state gap of the closed-loop simulator (seed 000 §2.5): a leader at ``speed_kmh`` and a follower
     powered up one tag spacing behind it (:func:`scenario_text`, ``options``), run for ``duration_s``.
 
@@ -389,20 +505,34 @@ def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_
     tolerance, duration = _number("speed_tolerance_kmh", speed_tolerance_kmh), _number("duration_s", duration_s)
     if settle_s >= duration:
         raise HeadwayError(f"settle_s must be shorter than duration_s = {duration_s!r}, got {settle_s}")
-    scenario = headway_scenario(mode, speed_kmh, resource_length_m=resource_length_m, duration_s=duration_s,
-                                follower_data=follower_data, **options)
+    scenario = headway_scenario(
+        mode,
+        speed_kmh,
+        resource_length_m=resource_length_m,
+        duration_s=duration_s,
+        follower_data=follower_data,
+        **options,
+    )
     leader, follower = scenario.trains
     if follower_depart_s is None:
-        worst = sim_limited_gap(mode, speed_kmh, locked_behind_m=_number("resource_length_m", resource_length_m),
-                                follower_data=follower_data, resource_length_m=resource_length_m, **options)
+        worst = sim_limited_gap(
+            mode,
+            speed_kmh,
+            locked_behind_m=_number("resource_length_m", resource_length_m),
+            follower_data=follower_data,
+            resource_length_m=resource_length_m,
+            **options,
+        )
         start_gap = worst - _number("approach_m", approach_m)
         initial_gap = leader.front_m - leader.data.train_length_m - follower.front_m
         late = max(Fraction(0), (start_gap - initial_gap) / (speed_kmh / KMH_PER_MPS))
         follower_depart_s = Fraction(round(late / scenario.cycle_s)) * scenario.cycle_s
     depart = _number("follower_depart_s", follower_depart_s, zero_ok=True)
     if not depart < duration - settle_s:
-        raise HeadwayError(f"follower_depart_s must lie in [0, duration_s - settle_s = {duration - settle_s}), got "
-                           f"{follower_depart_s!r}")
+        raise HeadwayError(
+            f"follower_depart_s must lie in [0, duration_s - settle_s = {duration - settle_s}), got "
+            f"{follower_depart_s!r}"
+        )
     scenario = dataclasses.replace(scenario, trains=(leader, dataclasses.replace(follower, depart_s=depart)))
     leader_length, kmh = float(leader.data.train_length_m), float(KMH_PER_MPS)
     samples: list[tuple[float, float, float, float, float]] = []
@@ -414,8 +544,15 @@ def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_
         lead, follow = sim.trains
         speed = follow.speed_mps * kmh
         held_back += bool(samples) and 0 < speed < samples[-1][2]  # braking on a level line: its limits hold it back
-        samples.append((sim.time_s, lead.speed_mps * kmh, speed, lead.front_m - leader_length - follow.front_m,
-                        follow.last["eoa_m"] - follow.last["front_max_m"]))
+        samples.append(
+            (
+                sim.time_s,
+                lead.speed_mps * kmh,
+                speed,
+                lead.front_m - leader_length - follow.front_m,
+                follow.last["eoa_m"] - follow.last["front_max_m"],
+            )
+        )
 
     started = time.process_time()
     simulation = Simulation(scenario, on_cycle=sample).run()
@@ -427,46 +564,76 @@ def measured_minimum(mode: str, speed_kmh=80, *, resource_length_m=50, duration_
     off = [s for s in window if max(abs(s[1] - target), abs(s[2] - target)) > float(tolerance)]
     if off:
         t, v_leader, v_follower, *_ = off[0]
-        raise HeadwayError(f"no steady state ({where}): at t = {t:.1f} s the leader runs at {v_leader:.2f} and the "
-                           f"follower at {v_follower:.2f} km/h, more than speed_tolerance_kmh = {tolerance} from "
-                           f"{target:g} km/h within the last settle_s = {settle_s} s")
+        raise HeadwayError(
+            f"no steady state ({where}): at t = {t:.1f} s the leader runs at {v_leader:.2f} and the "
+            f"follower at {v_follower:.2f} km/h, more than speed_tolerance_kmh = {tolerance} from "
+            f"{target:g} km/h within the last settle_s = {settle_s} s"
+        )
     spread = max(gaps) - min(gaps)
     if spread > settle_m:
-        raise HeadwayError(f"no steady state ({where}): the gap spreads {spread:.2f} m (from {min(gaps):.2f} to "
-                           f"{max(gaps):.2f} m) over the last settle_s = {settle_s} s, more than settle_m = {settle_m}")
+        raise HeadwayError(
+            f"no steady state ({where}): the gap spreads {spread:.2f} m (from {min(gaps):.2f} to "
+            f"{max(gaps):.2f} m) over the last settle_s = {settle_s} s, more than settle_m = {settle_m}"
+        )
     reach = max(s[4] for s in window)
     if reach >= float(scenario.max_ma_m) - 1:
-        raise HeadwayError(f"no minimum ({where}): the follower's end of authority reaches {reach:.2f} m ahead of "
-                           f"it, so max_ma_m = {scenario.max_ma_m} limits it rather than its leader")
+        raise HeadwayError(
+            f"no minimum ({where}): the follower's end of authority reaches {reach:.2f} m ahead of "
+            f"it, so max_ma_m = {scenario.max_ma_m} limits it rather than its leader"
+        )
     if not held_back:
-        raise HeadwayError(f"no minimum ({where}): the follower, departing follower_depart_s = {depart} s after the "
-                           f"leader, was never held back; its gap {gaps[-1]:.2f} m is only where it started")
+        raise HeadwayError(
+            f"no minimum ({where}): the follower, departing follower_depart_s = {depart} s after the "
+            f"leader, was never held back; its gap {gaps[-1]:.2f} m is only where it started"
+        )
     stats = simulation.trains[1].stats
     return _figure(
-        mode, "measured", speed_kmh, min(gaps), follower.data.train_length_m,
-        resource_length_m=float(resource_length_m), duration_s=float(duration), follower_depart_s=float(depart),
-        window_s=float(settle_s), spread_m=spread, final_gap_m=gaps[-1], held_back_cycles=held_back,
+        mode,
+        "measured",
+        speed_kmh,
+        min(gaps),
+        follower.data.train_length_m,
+        resource_length_m=float(resource_length_m),
+        duration_s=float(duration),
+        follower_depart_s=float(depart),
+        window_s=float(settle_s),
+        spread_m=spread,
+        final_gap_m=gaps[-1],
+        held_back_cycles=held_back,
         follower_speed_kmh=(min(s[2] for s in window), max(s[2] for s in window)),
         leader_speed_kmh=(min(s[1] for s in window), max(s[1] for s in window)),
-        least_gap_of_run_m=stats.min_gap_m, emergency_brakes=stats.emergency_brakes,
-        service_brakes=stats.service_brakes, cycles=simulation.step_count, cpu_s=cpu_s)
+        least_gap_of_run_m=stats.min_gap_m,
+        emergency_brakes=stats.emergency_brakes,
+        service_brakes=stats.service_brakes,
+        cycles=simulation.step_count,
+        cpu_s=cpu_s,
+    )
 
 
 def headway_report(speed_kmh=80, **options) -> list[dict]:
-    """One row per mode (issue 8): the measured gap and headway (``options``: :func:`measured_minimum`'s), the
+    """One row per mode: the measured gap and headway (``options``: :func:`measured_minimum`'s), the
     ATP-limited and the invariant's theoretical ones, and the resource length the measurement used."""
     rows = []
     for mode in MODES:
         measured = measured_minimum(mode, speed_kmh, **options)
-        theory = {k: v for k, v in options.items() if k not in (
-            "duration_s", "follower_depart_s", "approach_m", "settle_s", "settle_m", "speed_tolerance_kmh")}
+        theory = {
+            k: v
+            for k, v in options.items()
+            if k not in ("duration_s", "follower_depart_s", "approach_m", "settle_s", "settle_m", "speed_tolerance_kmh")
+        }
         atp = theoretical_minimum(mode, speed_kmh, limit="atp", **theory)
         invariant = theoretical_minimum(mode, speed_kmh, limit="invariant", **theory)
-        rows.append({
-            "mode": mode, "speed_kmh": measured.speed_kmh,
-            "measured_gap_m": measured.gap_m, "measured_headway_s": measured.headway_s,
-            "atp_gap_m": atp.gap_m, "atp_headway_s": atp.headway_s,
-            "invariant_gap_m": invariant.gap_m, "invariant_headway_s": invariant.headway_s,
-            "resource_length_m": measured.details["resource_length_m"],
-        })
+        rows.append(
+            {
+                "mode": mode,
+                "speed_kmh": measured.speed_kmh,
+                "measured_gap_m": measured.gap_m,
+                "measured_headway_s": measured.headway_s,
+                "atp_gap_m": atp.gap_m,
+                "atp_headway_s": atp.headway_s,
+                "invariant_gap_m": invariant.gap_m,
+                "invariant_headway_s": invariant.headway_s,
+                "resource_length_m": measured.details["resource_length_m"],
+            }
+        )
     return rows

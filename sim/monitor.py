@@ -29,6 +29,13 @@ class PropertyViolation(AtcsViolation):
         super().__init__(f"{prop.name} ({prop.requirement}) violated at step {step}: {prop.text}")
 
 
+def registered_properties(node: Node) -> tuple[Property, ...]:
+    """The registered properties about ``node``, in the registry's order: what the simulator checks of it."""
+    from atcs.properties import PROPERTIES
+
+    return tuple(p for p in PROPERTIES.values() if p.node is node)
+
+
 def _all(value) -> bool:
     return value if isinstance(value, bool) else bool(np.all(value))
 
@@ -38,8 +45,9 @@ def check_step(node: Node, params, state, inputs, properties: tuple[Property, ..
     returns (next state, outputs), or raises :class:`PropertyViolation`."""
     nxt, out = node.step(ops, params, state, inputs)
     for prop in properties:
-        if not _all(ops.implies(prop.assumed(ops, params, state, inputs),
-                                prop.holds(ops, params, state, inputs, out, nxt))):
+        if not _all(
+            ops.implies(prop.assumed(ops, params, state, inputs), prop.holds(ops, params, state, inputs, out, nxt))
+        ):
             raise PropertyViolation(prop, step, state, inputs, out)
     return nxt, out
 

@@ -41,8 +41,16 @@ class SampledCurves:
     speeds_mps: dict[str, np.ndarray]
 
 
-def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: float, a_est_mps2: float,
-                   *, samples: int = 400, speed_steps: int = 200) -> SampledCurves:
+def sampled_curves(
+    t: TrainData,
+    n: NationalData,
+    horizon: Horizon,
+    from_m: float,
+    a_est_mps2: float,
+    *,
+    samples: int = 400,
+    speed_steps: int = 200,
+) -> SampledCurves:
     """Each curve over ``[from_m, eoa_m]`` on the float backend. Each target's curves are traced in
     speed (the inverse query at ``speed_steps`` speeds, exact points of the curve), interpolated onto
     ``samples`` positions, and the lowest of the targets and the ceiling taken at each; from its
@@ -62,8 +70,9 @@ def sampled_curves(t: TrainData, n: NationalData, horizon: Horizon, from_m: floa
     for target in targets:
         # finer near the target's speeds, where the curves end
         v_target, v_foot = float(target.speed_mps), float(target.ebd_foot_mps)
-        grid = np.union1d(np.linspace(0.0, top_speed, speed_steps),
-                          np.linspace(v_target + 1e-6, v_foot + 5.0, speed_steps // 2))
+        grid = np.union1d(
+            np.linspace(0.0, top_speed, speed_steps), np.linspace(v_target + 1e-6, v_foot + 5.0, speed_steps // 2)
+        )
         per_speed = [curve_locations(o, t, n, horizon.gradient, target, float(v), a_est_mps2) for v in grid]
         for name in CURVE_NAMES:
             where = np.array([getattr(c, f"{name}_m") for c in per_speed])
@@ -129,26 +138,50 @@ def run_plots(sim, records: list[list[dict]], directory: Path, *, sample_every_s
         rows = [cycle[k] for cycle in records]
         fig = Figure(figsize=(11, 5.5), layout="constrained")
         ax = fig.subplots()
-        ax.plot([r["front_m"] for r in rows], [r["speed_kmh"] for r in rows], color="black", linewidth=1.5,
-                label="speed")
+        ax.plot(
+            [r["front_m"] for r in rows], [r["speed_kmh"] for r in rows], color="black", linewidth=1.5, label="speed"
+        )
         mrsp = train.mrsp
-        ax.step([*mrsp.starts_m, mrsp.end_m], [v * KMH for v in (*mrsp.values, mrsp.values[-1])], where="post",
-                color="grey", linewidth=1, label="MRSP")
+        ax.step(
+            [*mrsp.starts_m, mrsp.end_m],
+            [v * KMH for v in (*mrsp.values, mrsp.values[-1])],
+            where="post",
+            color="grey",
+            linewidth=1,
+            label="MRSP",
+        )
         samples = rows[::every]
-        speeds = [curve_speeds_at(train.train_data, train.national,
-                                  Horizon(train.mrsp, train.gradient, r["eoa_m"], 0.0), r["front_max_m"],
-                                  float(train.plant.max_acceleration_mps2), tolerance_mps=1e-3)
-                  for r in samples]
+        speeds = [
+            curve_speeds_at(
+                train.train_data,
+                train.national,
+                Horizon(train.mrsp, train.gradient, r["eoa_m"], 0.0),
+                r["front_max_m"],
+                float(train.plant.max_acceleration_mps2),
+                tolerance_mps=1e-3,
+            )
+            for r in samples
+        ]
         for name in ("ebi", "sbi", "permitted"):
             label, colour, style = CURVE_STYLE[name]
-            ax.plot([r["front_max_m"] for r in samples], [getattr(s, f"{name}_mps") * KMH for s in speeds],
-                    color=colour, linestyle=style, linewidth=1, label=f"{label} at the max safe front")
+            ax.plot(
+                [r["front_max_m"] for r in samples],
+                [getattr(s, f"{name}_mps") * KMH for s in speeds],
+                color=colour,
+                linestyle=style,
+                linewidth=1,
+                label=f"{label} at the max safe front",
+            )
         braking = [r["front_m"] for r in rows if r["eb"]]
         if braking:
             ax.plot(braking, [0] * len(braking), "|", color=CURVE_STYLE["ebi"][1], label="EB commanded")
         fronts = [r["front_m"] for r in rows]
-        ax.set(xlabel="front (m)", ylabel="speed (km/h)", title=f"{sim.scenario.name}: {train.spec.name}",
-               xlim=(min(fronts) - 50, max(fronts) + 100))
+        ax.set(
+            xlabel="front (m)",
+            ylabel="speed (km/h)",
+            title=f"{sim.scenario.name}: {train.spec.name}",
+            xlim=(min(fronts) - 50, max(fronts) + 100),
+        )
         ax.set_ylim(bottom=0)
         ax.grid(True, alpha=0.3)
         ax.legend(loc="lower left", fontsize="small")
@@ -162,19 +195,29 @@ def run_plots(sim, records: list[list[dict]], directory: Path, *, sample_every_s
         rows = [cycle[k] for cycle in records]
         times = [r["t_s"] for r in rows]
         if layout is not None:  # a train graph: x along the line, up trains rising and down trains falling
-            ax.plot(times, [r["x_m"] if r["track"] != "turn-back" else math.nan for r in rows],
-                    label=train.spec.name, linewidth=1)
+            ax.plot(
+                times,
+                [r["x_m"] if r["track"] != "turn-back" else math.nan for r in rows],
+                label=train.spec.name,
+                linewidth=1,
+            )
             continue
-        line, = ax.plot(times, [r["front_m"] for r in rows], label=f"{train.spec.name} front")
-        ax.plot(times, [r["front_m"] - float(train.spec.data.train_length_m) for r in rows], color=line.get_color(),
-                linestyle=":", label=f"{train.spec.name} rear")
+        (line,) = ax.plot(times, [r["front_m"] for r in rows], label=f"{train.spec.name} front")
+        ax.plot(
+            times,
+            [r["front_m"] - float(train.spec.data.train_length_m) for r in rows],
+            color=line.get_color(),
+            linestyle=":",
+            label=f"{train.spec.name} rear",
+        )
     for zone in sim.scenario.zones:
         until = sim.time_s if zone.until_s is None else float(zone.until_s)
         at = layout.place(zone.start_m)[1] if layout is not None else float(zone.start_m)
-        ax.hlines(at, float(zone.from_s), until, color=CURVE_STYLE["ebi"][1], linewidth=2,
-                  label=f"protection zone ({at:g} m)")
+        ax.hlines(
+            at, float(zone.from_s), until, color=CURVE_STYLE["ebi"][1], linewidth=2, label=f"protection zone ({at:g} m)"
+        )
     if layout is not None:
-        for station in sim.scenario.stations[:len(sim.scenario.stations) // 2]:
+        for station in sim.scenario.stations[: len(sim.scenario.stations) // 2]:
             ax.axhline(float(station.stop_m), color="grey", linewidth=0.5)
     ylabel = "position along the line (m; turn-backs not drawn)" if layout is not None else "position (m)"
     ax.set(xlabel="time (s)", ylabel=ylabel, title=f"{sim.scenario.name}: time-distance")

@@ -46,8 +46,10 @@ class ReferenceProfileError(AtcsError, RuntimeError):
 
     def __init__(self, status: str, start_m: float, stop_m: float, detail: str = ""):
         self.status, self.start_m, self.stop_m = status, start_m, stop_m
-        super().__init__(f"no reference profile on the stretch start_m = {start_m:g} .. stop_m = {stop_m:g}: "
-                         f"status {status!r}" + (f" ({detail})" if detail else ""))
+        super().__init__(
+            f"no reference profile on the stretch start_m = {start_m:g} .. stop_m = {stop_m:g}: "
+            f"status {status!r}" + (f" ({detail})" if detail else "")
+        )
 
 
 @dataclass(frozen=True)
@@ -101,9 +103,16 @@ def _time_s(energy: np.ndarray, ds: float) -> float:
     return float(np.sum(2 * ds / sums))
 
 
-def minimum_time_profile(ceiling_mps: Callable[[float], float], start_m: float, stop_m: float, *,
-                         accel_mps2: float, decel_mps2: float, step_m: float = DEFAULT_STEP_M,
-                         conservative: bool = True) -> ReferenceProfile:
+def minimum_time_profile(
+    ceiling_mps: Callable[[float], float],
+    start_m: float,
+    stop_m: float,
+    *,
+    accel_mps2: float,
+    decel_mps2: float,
+    step_m: float = DEFAULT_STEP_M,
+    conservative: bool = True,
+) -> ReferenceProfile:
     """The fastest profile from standstill at ``start_m`` to standstill at ``stop_m`` under ``ceiling_mps``
     (x_m -> m/s, everything included; ``inf`` for no limit), traction ``accel_mps2`` and braking
     ``decel_mps2``, on a uniform grid of step at most ``step_m`` (at least two steps).
@@ -143,11 +152,11 @@ def minimum_time_profile(ceiling_mps: Callable[[float], float], start_m: float, 
     stuck = np.flatnonzero((cap[:-1] == 0) & (cap[1:] == 0))
     if stuck.size:
         x = positions[stuck[0]]
-        raise ReferenceProfileError("infeasible", start, stop,
-                                    f"the ceiling is 0 at the neighbouring grid points {x:g} m and {x + ds:g} m")
+        raise ReferenceProfileError(
+            "infeasible", start, stop, f"the ceiling is 0 at the neighbouring grid points {x:g} m and {x + ds:g} m"
+        )
     energy = cp.Variable(steps + 1, nonneg=True)
-    constraints = [energy[0] == 0, energy[steps] == 0,
-                   cp.diff(energy) <= accel * ds, -cp.diff(energy) <= decel * ds]
+    constraints = [energy[0] == 0, energy[steps] == 0, cp.diff(energy) <= accel * ds, -cp.diff(energy) <= decel * ds]
     if bounded.size:
         constraints.append(energy[bounded] <= cap[bounded])
     running = 2 * ds * cp.sum(cp.inv_pos(cp.sqrt(2 * energy[:-1]) + cp.sqrt(2 * energy[1:])))
@@ -168,14 +177,21 @@ def minimum_time_profile(ceiling_mps: Callable[[float], float], start_m: float, 
     slack = TOLERANCE * np.maximum(1.0, e[1:])
     if (rise > accel * ds + slack).any() or (-rise > decel * ds + slack).any():
         worst = int(np.argmax(np.maximum(rise / accel, -rise / decel)))
-        raise ReferenceProfileError(status, start, stop,
-                                    f"the solution is off the traction or braking limit at {positions[worst]:g} m")
+        raise ReferenceProfileError(
+            status, start, stop, f"the solution is off the traction or braking limit at {positions[worst]:g} m"
+        )
     return ReferenceProfile(positions, np.sqrt(2 * e), _time_s(e, ds), status)
 
 
-def reference_profiles(stops_m: Sequence[float], ceiling_for: Callable[[float, float], Callable[[float], float]], *,
-                       accel_mps2: float, decel_mps2: float, step_m: float = DEFAULT_STEP_M,
-                       conservative: bool = True) -> tuple[ReferenceProfile, ...]:
+def reference_profiles(
+    stops_m: Sequence[float],
+    ceiling_for: Callable[[float, float], Callable[[float], float]],
+    *,
+    accel_mps2: float,
+    decel_mps2: float,
+    step_m: float = DEFAULT_STEP_M,
+    conservative: bool = True,
+) -> tuple[ReferenceProfile, ...]:
     """One profile per pair of consecutive ``stops_m`` (increasing); ``ceiling_for(start_m, stop_m)`` gives
     each stretch's ceiling (e.g. :func:`atp_ceiling` for an authority ending at or beyond the stop)."""
     stops = [_finite(f"stops_m[{k}]", s) for k, s in enumerate(stops_m)]
@@ -185,14 +201,29 @@ def reference_profiles(stops_m: Sequence[float], ceiling_for: Callable[[float, f
         if not stops[k] > stops[k - 1]:
             raise ValueError(f"stops_m[{k}] = {stops_m[k]!r} is not after stops_m[{k - 1}] = {stops_m[k - 1]!r}")
     return tuple(
-        minimum_time_profile(ceiling_for(a, b), a, b, accel_mps2=accel_mps2, decel_mps2=decel_mps2, step_m=step_m,
-                             conservative=conservative)
-        for a, b in pairwise(stops))
+        minimum_time_profile(
+            ceiling_for(a, b),
+            a,
+            b,
+            accel_mps2=accel_mps2,
+            decel_mps2=decel_mps2,
+            step_m=step_m,
+            conservative=conservative,
+        )
+        for a, b in pairwise(stops)
+    )
 
 
-def atp_ceiling(train_data: TrainData, national: NationalData, horizon: Horizon, *, a_est_mps2: float | None = None,
-                margin_mps: float = 0.5, curve: str = "indication",
-                tolerance_mps: float = 1e-4) -> Callable[[float], float]:
+def atp_ceiling(
+    train_data: TrainData,
+    national: NationalData,
+    horizon: Horizon,
+    *,
+    a_est_mps2: float | None = None,
+    margin_mps: float = 0.5,
+    curve: str = "indication",
+    tolerance_mps: float = 1e-4,
+) -> Callable[[float], float]:
     """The ceiling x_m -> m/s of a train supervised on ``horizon`` (MRSP, gradient, EoA; exact or float data,
     run on floats): ``curve``'s speed from :func:`~atcs.model.dynamic_profile.curve_speeds_at` (capped by
     the MRSP; the indication curve, the earliest, by default) less ``min(margin_mps, v / 2)``, so strictly
@@ -210,8 +241,9 @@ def atp_ceiling(train_data: TrainData, national: NationalData, horizon: Horizon,
         raise ValueError(f"margin_mps must be >= 0, got {margin_mps!r}")
     _positive("tolerance_mps", tolerance_mps)
     train_data, national = float_record(train_data), float_record(national)
-    horizon = Horizon(as_float(horizon.mrsp), as_float(horizon.gradient), float(horizon.eoa_m),
-                      float(horizon.eoa_speed_mps))
+    horizon = Horizon(
+        as_float(horizon.mrsp), as_float(horizon.gradient), float(horizon.eoa_m), float(horizon.eoa_speed_mps)
+    )
     a_est = float(train_data.max_acceleration_mps2) if a_est_mps2 is None else _finite("a_est_mps2", a_est_mps2)
     field = f"{curve}_mps"
 

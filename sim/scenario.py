@@ -21,18 +21,18 @@ from atcs.model.data_files import read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
 from atcs.model.profile import parse_number
+from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import (
     NationalData,
     TrainData,
-    seed000_train,
     seed002_national,
-    seed002_train,
     subset026_national,
 )
 from atcs.sim.double_track import TRACKS, DoubleTrack
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
-PRESETS = {"seed000": seed000_train, "seed002": seed002_train}
+PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
+"""The seeds' trains a scenario's ``preset`` names."""
 NATIONAL = {"subset026": subset026_national, "seed002": seed002_national}
 FAULTS = {
     "ignores_service_brake": "the train does not apply the ATP's service brake command",
@@ -45,8 +45,12 @@ FAULTS = {
     "stuck_door": "an obstacle holds the doors open",
 }
 """Fault kinds a train may carry for a time window, and what each does."""
-FAULT_FIELDS = {"spurious_tag": {"tag_id": 999999}, "tacho_drift": {"factor": None},
-                "tacho_slide": {"factor": None}, "t2t_delay": {"delay_s": None}}
+FAULT_FIELDS = {
+    "spurious_tag": {"tag_id": 999999},
+    "tacho_drift": {"factor": None},
+    "tacho_slide": {"factor": None},
+    "t2t_delay": {"delay_s": None},
+}
 """Each fault's own fields, with their defaults (None: required)."""
 
 
@@ -190,8 +194,7 @@ class _Reader:
             raise ScenarioError(f"{source}: {where or 'the file'} must be a table, got {table!r}")
         unknown = sorted(set(table) - set(allowed))
         if unknown:
-            raise ScenarioError(f"{source}: {self.name(unknown[0])}: unknown field (fields here: "
-                                f"{', '.join(allowed)})")
+            raise ScenarioError(f"{source}: {self.name(unknown[0])}: unknown field (fields here: {', '.join(allowed)})")
 
     def name(self, key: str) -> str:
         return f"{self.where}.{key}" if self.where else key
@@ -235,8 +238,9 @@ class _Reader:
         return value
 
 
-def _segments(reader: _Reader, key: str, value_key: str, default: Fraction, line_m: Fraction, *,
-              positive: bool) -> tuple[Segment, ...]:
+def _segments(
+    reader: _Reader, key: str, value_key: str, default: Fraction, line_m: Fraction, *, positive: bool
+) -> tuple[Segment, ...]:
     rows = reader.rows(key)
     if not rows:
         return (Segment(Fraction(0), default),)
@@ -272,30 +276,54 @@ def _row_fields(layout: DoubleTrack | None, *fields: str) -> tuple[str, ...]:
     return (*fields, "track") if layout is not None else fields
 
 
-def _train(source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | None,
-           tag_spacing_m: Fraction) -> TrainSpec:
-    r = _Reader(source, row, f"trains[{j}]", _row_fields(
-        layout, "name", "preset", "front_m", "max_speed_kmh", "depart_s", "faults", "eb_release_after_stop_s",
-        "first_door_m", "last_door_m"))
+def _train(
+    source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | None, tag_spacing_m: Fraction
+) -> TrainSpec:
+    r = _Reader(
+        source,
+        row,
+        f"trains[{j}]",
+        _row_fields(
+            layout,
+            "name",
+            "preset",
+            "front_m",
+            "max_speed_kmh",
+            "depart_s",
+            "faults",
+            "eb_release_after_stop_s",
+            "first_door_m",
+            "last_door_m",
+        ),
+    )
     name = r.text("name", f"T{j + 1}")
     data = PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
     track = _track(r, layout)
     front = r.number("front_m", minimum=0)
     front_loop = layout.point(track, front) if layout is not None else front
     if front >= length_m or (layout is None and front - data.train_length_m < 0):
-        r.fail("front_m", f"must put the whole train on the line (its length is {data.train_length_m} m, the line "
-               f"{length_m} m)")
+        r.fail(
+            "front_m",
+            f"must put the whole train on the line (its length is {data.train_length_m} m, the line {length_m} m)",
+        )
     if layout is not None and front_loop - data.train_length_m < 0:
-        r.fail("front_m", f"must put the whole train on the loop: its rear ({data.train_length_m} m behind) would "
-               "be round the near turn-back, behind the loop's origin (x = 0 on the up track)")
+        r.fail(
+            "front_m",
+            f"must put the whole train on the loop: its rear ({data.train_length_m} m behind) would "
+            "be round the near turn-back, behind the loop's origin (x = 0 on the up track)",
+        )
     if front % tag_spacing_m:
-        r.fail("front_m", f"must be on a tag (a multiple of line.tag_spacing_m = {tag_spacing_m}): a train powers up "
-               "on a tag and reads it in its first cycle")
+        r.fail(
+            "front_m",
+            f"must be on a tag (a multiple of line.tag_spacing_m = {tag_spacing_m}): a train powers up "
+            "on a tag and reads it in its first cycle",
+        )
     faults = []
     for k, fault in enumerate(r.rows("faults")):
         where = f"{r.name('faults')}[{k}]"
         kind = _Reader(source, fault, where, tuple(fault) if isinstance(fault, Mapping) else ()).text(
-            "kind", choices=tuple(FAULTS))
+            "kind", choices=tuple(FAULTS)
+        )
         own = FAULT_FIELDS.get(kind, {})
         f = _Reader(source, fault, where, ("kind", "from_s", "until_s", *own))
         value = None
@@ -305,13 +333,20 @@ def _train(source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | N
     first_door = r.number("first_door_m", 10, minimum=0)
     last_door = r.number("last_door_m", data.train_length_m - 10, minimum=0)
     if not first_door <= last_door <= data.train_length_m:
-        r.fail("last_door_m", f"must lie from first_door_m ({first_door} m) to the train's length "
-               f"({data.train_length_m} m)")
+        r.fail(
+            "last_door_m",
+            f"must lie from first_door_m ({first_door} m) to the train's length ({data.train_length_m} m)",
+        )
     return TrainSpec(
-        name=name, data=data, front_m=front_loop, max_speed_kmh=r.number("max_speed_kmh", positive=True),
-        depart_s=r.number("depart_s", 0, minimum=0), faults=tuple(faults),
+        name=name,
+        data=data,
+        front_m=front_loop,
+        max_speed_kmh=r.number("max_speed_kmh", positive=True),
+        depart_s=r.number("depart_s", 0, minimum=0),
+        faults=tuple(faults),
         eb_release_after_stop_s=r.optional_number("eb_release_after_stop_s", minimum=0),
-        first_door_m=first_door, last_door_m=last_door,
+        first_door_m=first_door,
+        last_door_m=last_door,
     )
 
 
@@ -324,16 +359,21 @@ def _trains_in_order(source: str, trains: list[TrainSpec], layout: DoubleTrack |
     for j, (ahead, train) in enumerate(itertools.pairwise(trains), start=1):
         rear = ahead.front_m - ahead.data.train_length_m
         if train.front_m >= rear and layout is None:
-            raise ScenarioError(f"{source}: trains[{j}].front_m = {train.front_m} must be behind the rear of "
-                                f"{ahead.name} ({rear} m; trains are listed from the front)")
+            raise ScenarioError(
+                f"{source}: trains[{j}].front_m = {train.front_m} must be behind the rear of "
+                f"{ahead.name} ({rear} m; trains are listed from the front)"
+            )
         if train.front_m >= rear:
-            raise ScenarioError(f"{source}: trains: {train.name} (front at {train.front_m} m round the loop) "
-                                f"overlaps {ahead.name} (rear at {rear} m)")
+            raise ScenarioError(
+                f"{source}: trains: {train.name} (front at {train.front_m} m round the loop) "
+                f"overlaps {ahead.name} (rear at {rear} m)"
+            )
     return tuple(trains)
 
 
-def _double_track(line: _Reader, length_m: Fraction, tag_spacing_m: Fraction,
-                  resource_length_m: Fraction) -> DoubleTrack | None:
+def _double_track(
+    line: _Reader, length_m: Fraction, tag_spacing_m: Fraction, resource_length_m: Fraction
+) -> DoubleTrack | None:
     flag = line.table.get("double_track", False)
     if not isinstance(flag, bool):
         line.fail("double_track", "must be true or false")
@@ -347,8 +387,11 @@ def _double_track(line: _Reader, length_m: Fraction, tag_spacing_m: Fraction,
     for key, value in (("length_m", length_m), ("turn_back_m", turn_back)):
         for spacing_key, spacing in (("tag_spacing_m", tag_spacing_m), ("resource_length_m", resource_length_m)):
             if value % spacing:
-                line.fail(key, f"must be a multiple of line.{spacing_key} = {spacing} on a double track, so that "
-                          "the tags and resources of both tracks repeat round the loop")
+                line.fail(
+                    key,
+                    f"must be a multiple of line.{spacing_key} = {spacing} on a double track, so that "
+                    "the tags and resources of both tracks repeat round the loop",
+                )
     raw = line.table.get("wayside_zone_boundaries_m", [])
     if not isinstance(raw, list):
         line.fail("wayside_zone_boundaries_m", "must be a list of positions along the line")
@@ -356,25 +399,33 @@ def _double_track(line: _Reader, length_m: Fraction, tag_spacing_m: Fraction,
     for j, value in enumerate(raw):
         b = parse_number(line.source, f"line.wayside_zone_boundaries_m[{j}]", value, ScenarioError)
         if not (boundaries[-1] if boundaries else 0) < b < length_m:
-            raise ScenarioError(f"{line.source}: line.wayside_zone_boundaries_m[{j}] = {value!r} must lie inside the "
-                                f"line (0 to {length_m} m) and after the previous boundary")
+            raise ScenarioError(
+                f"{line.source}: line.wayside_zone_boundaries_m[{j}] = {value!r} must lie inside the "
+                f"line (0 to {length_m} m) and after the previous boundary"
+            )
         boundaries.append(b)
     return DoubleTrack(length_m, turn_back, tuple(boundaries))
 
 
-def _mirrored_stations(source: str, stations: list[Station], platforms: tuple[Platform, ...],
-                       layout: DoubleTrack) -> tuple[tuple[Station, ...], tuple[Platform, ...]]:
+def _mirrored_stations(
+    source: str, stations: list[Station], platforms: tuple[Platform, ...], layout: DoubleTrack
+) -> tuple[tuple[Station, ...], tuple[Platform, ...]]:
     """The stations and platforms of both tracks, in loop order: those given (the up track), then their mirror on
     the down track. A down train stops with its doors where an up train's are, mirrored about the platform."""
     down = []
     for j, station in enumerate(stations):
         spanning = [p for p in platforms if p.start_m <= station.stop_m <= p.end_m]
         if not spanning:
-            raise ScenarioError(f"{source}: stations[{j}].stop_m = {station.stop_m}: no platform of [platforms] "
-                                "contains it, so it has no mirror on the down track")
+            raise ScenarioError(
+                f"{source}: stations[{j}].stop_m = {station.stop_m}: no platform of [platforms] "
+                "contains it, so it has no mirror on the down track"
+            )
         p = spanning[0]
-        down.append(Station(f"{station.name} (down)", layout.point("down", p.start_m + p.end_m - station.stop_m),
-                            station.dwell_s))
+        down.append(
+            Station(
+                f"{station.name} (down)", layout.point("down", p.start_m + p.end_m - station.stop_m), station.dwell_s
+            )
+        )
     mirrored = []
     for p in platforms:
         start, end = layout.interval("down", p.start_m, p.end_m)
@@ -386,34 +437,63 @@ def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file (:class:`ScenarioError` on anything malformed)."""
     source = str(path)
     document = read_toml(path, ScenarioError, "the scenario")
-    top = _Reader(source, document, "", ("name", "seed", "description", "duration_s", "cycle_s", "line", "atp",
-                                         "ato", "trains", "zones", "platforms", "restrictions", "stations",
-                                         "manager_outages"))
+    top = _Reader(
+        source,
+        document,
+        "",
+        (
+            "name",
+            "seed",
+            "description",
+            "duration_s",
+            "cycle_s",
+            "line",
+            "atp",
+            "ato",
+            "trains",
+            "zones",
+            "platforms",
+            "restrictions",
+            "stations",
+            "manager_outages",
+        ),
+    )
     for key in ("line", "atp", "ato"):
         if key not in document:
             raise ScenarioError(f"{source}: [{key}] is missing")
-    line = _Reader(source, document["line"], "line", ("length_m", "tag_spacing_m", "resource_length_m",
-                                                       "speed_limits", "gradients", "max_ma_m", "double_track",
-                                                       "turn_back_m", "turn_back_kmh", "wayside_zone_boundaries_m"))
+    line = _Reader(
+        source,
+        document["line"],
+        "line",
+        (
+            "length_m",
+            "tag_spacing_m",
+            "resource_length_m",
+            "speed_limits",
+            "gradients",
+            "max_ma_m",
+            "double_track",
+            "turn_back_m",
+            "turn_back_kmh",
+            "wayside_zone_boundaries_m",
+        ),
+    )
     length_m = line.number("length_m", positive=True)
     tag_spacing_m = line.number("tag_spacing_m", positive=True)
     resource_length_m = line.number("resource_length_m", positive=True)
     if tag_spacing_m > length_m or resource_length_m > length_m:
         raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
     layout = _double_track(line, length_m, tag_spacing_m, resource_length_m)
-    line_m = layout.loop_m if layout is not None else length_m
-    speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
-    gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
-    if layout is not None:
-        turn_back_kmh = line.number("turn_back_kmh", positive=True)
-        speed_limits = tuple(Segment(*x) for x in zip(*layout.segments(
-            [g.start_m for g in speed_limits], [g.value for g in speed_limits], turn_back_kmh), strict=True))
-        gradients = tuple(Segment(*x) for x in zip(*layout.segments(
-            [g.start_m for g in gradients], [g.value for g in gradients], Fraction(0), negate=True), strict=True))
-    atp = _Reader(source, document["atp"], "atp", ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m",
-                                                    "tacho_error", "national", "stop_tolerance_m"))
-    ato = _Reader(source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh",
-                                                    "reference_profile"))
+    speed_limits, gradients = _line_profiles(line, length_m, layout)
+    atp = _Reader(
+        source,
+        document["atp"],
+        "atp",
+        ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m", "tacho_error", "national", "stop_tolerance_m"),
+    )
+    ato = _Reader(
+        source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh", "reference_profile")
+    )
     reference = document["ato"].get("reference_profile", False)
     if not isinstance(reference, bool):
         ato.fail("reference_profile", "must be true or false")
@@ -423,8 +503,77 @@ def load_scenario(path: str | Path) -> Scenario:
     rows = top.rows("trains")
     if not rows:
         raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
-    trains = _trains_in_order(source, [_train(source, row, j, length_m, layout, tag_spacing_m)
-                                       for j, row in enumerate(rows)], layout)
+    trains = _trains_in_order(
+        source, [_train(source, row, j, length_m, layout, tag_spacing_m) for j, row in enumerate(rows)], layout
+    )
+    try:
+        platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
+    except PlatformDataError as exc:
+        raise ScenarioError(str(exc)) from None
+    stations = _stations(source, top, length_m)
+    if layout is not None:
+        stations, platforms = _mirrored_stations(source, stations, platforms, layout)
+    scenario = Scenario(
+        name=top.text("name"),
+        seed=top.text("seed"),
+        description=top.text("description", ""),
+        source=source,
+        duration_s=top.number("duration_s", positive=True),
+        cycle_s=top.number("cycle_s", "0.1", positive=True),
+        line_m=layout.loop_m if layout is not None else length_m,
+        tag_spacing_m=tag_spacing_m,
+        resource_length_m=resource_length_m,
+        speed_limits_kmh=speed_limits,
+        gradients_permille=gradients,
+        max_ma_m=line.number("max_ma_m", positive=True),
+        brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
+        safety_margin_m=atp.number("safety_margin_m", minimum=0),
+        report_timeout_s=atp.number("report_timeout_s", positive=True),
+        tag_window_m=atp.number("tag_window_m", minimum=0),
+        tacho_error=tacho_error,
+        planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
+        ato_margin_m=ato.number("margin_m", minimum=0),
+        trains=trains,
+        zones=_zones(source, top, length_m, layout),
+        platforms=tuple(platforms),
+        national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
+        ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0),
+        restrictions=_restrictions(source, top, length_m, layout),
+        stations=tuple(stations),
+        stop_tolerance_m=atp.number("stop_tolerance_m", 1, positive=True),
+        manager_outages=_outages(source, top, layout),
+        ato_reference_profile=reference,
+        double_track=layout,
+    )
+    _check_stops(scenario, given=len(top.rows("stations")))
+    return scenario
+
+
+def _line_profiles(line: _Reader, length_m: Fraction, layout) -> tuple[tuple[Segment, ...], tuple[Segment, ...]]:
+    """The line's speed limits and gradients, laid out over both tracks of a double track."""
+    speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
+    gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
+    if layout is None:
+        return speed_limits, gradients
+    turn_back_kmh = line.number("turn_back_kmh", positive=True)
+    speed_limits = tuple(
+        Segment(*x)
+        for x in zip(
+            *layout.segments([g.start_m for g in speed_limits], [g.value for g in speed_limits], turn_back_kmh),
+            strict=True,
+        )
+    )
+    gradients = tuple(
+        Segment(*x)
+        for x in zip(
+            *layout.segments([g.start_m for g in gradients], [g.value for g in gradients], Fraction(0), negate=True),
+            strict=True,
+        )
+    )
+    return speed_limits, gradients
+
+
+def _zones(source: str, top: _Reader, length_m: Fraction, layout) -> tuple[Zone, ...]:
     zones = []
     for j, row in enumerate(top.rows("zones")):
         z = _Reader(source, row, f"zones[{j}]", _row_fields(layout, "start_m", "from_s", "until_s"))
@@ -432,20 +581,25 @@ def load_scenario(path: str | Path) -> Scenario:
         if start > length_m:
             z.fail("start_m", f"must be on the line ({length_m} m)")
         zones.append(Zone(layout.point(_track(z, layout), start) if layout else start, *_window(z)))
-    try:
-        platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
-    except PlatformDataError as exc:
-        raise ScenarioError(str(exc)) from None
+    return tuple(zones)
+
+
+def _restrictions(source: str, top: _Reader, length_m: Fraction, layout) -> tuple[TimedRestriction, ...]:
     restrictions = []
     for j, row in enumerate(top.rows("restrictions")):
-        x = _Reader(source, row, f"restrictions[{j}]", _row_fields(layout, "start_m", "end_m", "kmh", "from_s",
-                                                                    "until_s"))
+        x = _Reader(
+            source, row, f"restrictions[{j}]", _row_fields(layout, "start_m", "end_m", "kmh", "from_s", "until_s")
+        )
         start, end = x.number("start_m", minimum=0), x.number("end_m")
         if not start < end <= length_m:
             x.fail("end_m", f"must lie after start_m ({start} m) and on the line ({length_m} m)")
         if layout is not None:
             start, end = layout.interval(_track(x, layout), start, end)
         restrictions.append(TimedRestriction(start, end, x.number("kmh", positive=True), *_window(x)))
+    return tuple(restrictions)
+
+
+def _stations(source: str, top: _Reader, length_m: Fraction) -> list[Station]:
     stations = []
     for j, row in enumerate(top.rows("stations")):
         x = _Reader(source, row, f"stations[{j}]", ("name", "stop_m", "dwell_s"))
@@ -453,8 +607,10 @@ def load_scenario(path: str | Path) -> Scenario:
         if stop > length_m or (stations and stop <= stations[-1].stop_m):
             x.fail("stop_m", f"must be on the line ({length_m} m) and after the previous station's stop")
         stations.append(Station(x.text("name", f"S{j + 1}"), stop, x.number("dwell_s", minimum=0)))
-    if layout is not None:
-        stations, platforms = _mirrored_stations(source, stations, platforms, layout)
+    return stations
+
+
+def _outages(source: str, top: _Reader, layout) -> tuple[Window, ...]:
     zone_count = layout.zones if layout is not None else 1
     outages = []
     for j, row in enumerate(top.rows("manager_outages")):
@@ -463,41 +619,37 @@ def load_scenario(path: str | Path) -> Scenario:
         if zone is not None and (zone.denominator != 1 or zone > zone_count):
             w.fail("zone", f"must be a wayside zone, a whole number from 1 to {zone_count}")
         outages.append(Window(*_window(w), None if zone is None else int(zone)))
-    scenario = Scenario(
-        name=top.text("name"), seed=top.text("seed"), description=top.text("description", ""), source=source,
-        duration_s=top.number("duration_s", positive=True), cycle_s=top.number("cycle_s", "0.1", positive=True),
-        line_m=line_m, tag_spacing_m=tag_spacing_m, resource_length_m=resource_length_m,
-        speed_limits_kmh=speed_limits, gradients_permille=gradients,
-        max_ma_m=line.number("max_ma_m", positive=True),
-        brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
-        safety_margin_m=atp.number("safety_margin_m", minimum=0),
-        report_timeout_s=atp.number("report_timeout_s", positive=True),
-        tag_window_m=atp.number("tag_window_m", minimum=0), tacho_error=tacho_error,
-        planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
-        ato_margin_m=ato.number("margin_m", minimum=0), trains=trains, zones=tuple(zones),
-        platforms=tuple(platforms), national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
-        ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0), restrictions=tuple(restrictions),
-        stations=tuple(stations), stop_tolerance_m=atp.number("stop_tolerance_m", 1, positive=True),
-        manager_outages=tuple(outages), ato_reference_profile=reference, double_track=layout,
-    )
+    return tuple(outages)
+
+
+def _check_stops(scenario: Scenario, given: int) -> None:
+    """The stations need a reference profile's stops, a stop tolerance past the tag window, and a platform under
+    every train's doors (``given`` stations in the file; a double track mirrors them on the down track)."""
+    source = scenario.source
     if scenario.ato_reference_profile and not scenario.stations:
-        raise ScenarioError(f"{source}: ato.reference_profile = true needs [[stations]]: the profile runs from stop "
-                            "to stop")
+        raise ScenarioError(
+            f"{source}: ato.reference_profile = true needs [[stations]]: the profile runs from stop to stop"
+        )
     if scenario.stations and scenario.stop_tolerance_m <= scenario.tag_window_m:
-        raise ScenarioError(f"{source}: atp.stop_tolerance_m = {scenario.stop_tolerance_m} must exceed "
-                            f"atp.tag_window_m = {scenario.tag_window_m}: the position interval is at least "
-                            "the tag window either side, so the doors could never be enabled at a station")
-    given = len(top.rows("stations"))
+        raise ScenarioError(
+            f"{source}: atp.stop_tolerance_m = {scenario.stop_tolerance_m} must exceed "
+            f"atp.tag_window_m = {scenario.tag_window_m}: the position interval is at least "
+            "the tag window either side, so the doors could never be enabled at a station"
+        )
     for j, station in enumerate(scenario.stations):
-        where = f"stations[{j}].stop_m =" if j < given else \
-            f"stations[{2 * given - 1 - j}].stop_m, mirrored on the down track to"
+        where = (
+            f"stations[{j}].stop_m ="
+            if j < given
+            else f"stations[{2 * given - 1 - j}].stop_m, mirrored on the down track to"
+        )
         for train in scenario.trains:
             tolerance = scenario.stop_tolerance_m  # the doors wherever the front is within it
             doors = (station.stop_m - tolerance - train.last_door_m, station.stop_m + tolerance - train.first_door_m)
             if not any(p.start_m <= doors[0] and doors[1] <= p.end_m for p in scenario.platforms):
-                raise ScenarioError(f"{source}: {where} {station.stop_m}: no platform of [platforms] spans "
-                                    f"{train.name}'s doors there ({doors[0]} m to {doors[1]} m)")
-    return scenario
+                raise ScenarioError(
+                    f"{source}: {where} {station.stop_m}: no platform of [platforms] spans "
+                    f"{train.name}'s doors there ({doors[0]} m to {doors[1]} m)"
+                )
 
 
 def shipped() -> dict[str, Path]:

@@ -23,141 +23,51 @@ Then the resource manager (:data:`~atcs.model.resources.RESOURCES`, its properti
 each cycle, on the resources with something to do) handles the requests and releases;
 every message is delivered in the next cycle. Any property violation stops the run with
 the step (:class:`~atcs.sim.monitor.PropertyViolation`); so does a collision or an overrun
-of a protection zone or the line's end (:class:`SafetyViolation`).
+of a protection zone or the line's end (:class:`~atcs.sim.train_run.SafetyViolation`).
+
+By role: this module holds the line (tags, resources, restrictions), the cycle and the wayside; a train's state
+is in :mod:`.train_run`, its ATO in :mod:`.ato_driver`, its doors at a stop in :mod:`.station_stop`, the plant
+in :mod:`.motion`, the trace file in :mod:`.trace_files`.
 """
 
 from __future__ import annotations
 
 import bisect
-import csv
 import dataclasses
-import io
-import json
-import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from fractions import Fraction
 
-from atcs.model.ato import ato_target_speed as ato_target
-from atcs.model.ato import limits_ahead
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
-from atcs.model.doors import DOOR_LOOP, DcuState, DoorLoopInputs, DoorParams
+from atcs.model.doors import DoorParams
 from atcs.model.dynamic_profile import Horizon, supervise_position
-from atcs.model.errors import AtcsViolation
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT, float_record, floats
-from atcs.model.plant import PlantParams, PlantState, gradient_braking_mps2, plant_admits
+from atcs.model.plant import PlantParams
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
-from atcs.model.profile import KMH_PER_MPS, Profile, value_at
+from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
 from atcs.model.restrictions import SpeedRestrictions, as_float
 from atcs.model.supervision import SupervisionParams, SupervisionState, supervise
-from atcs.model.train_data import NationalData, TrainData
-from atcs.properties import select
-from atcs.properties.closed_loop import preset_data
-from atcs.sim.monitor import Monitor, check_step
-from atcs.sim.reference_profile import ReferenceProfile, atp_ceiling, minimum_time_profile
+from atcs.model.train_data import preset_data
+from atcs.sim.ato_driver import ato_commands
+from atcs.sim.monitor import Monitor, check_step, registered_properties
+from atcs.sim.motion import move
 from atcs.sim.scenario import Scenario, TrainSpec
+from atcs.sim.station_stop import station_doors
+from atcs.sim.train_run import SafetyViolation, TrainRun
 
 KMH = float(KMH_PER_MPS)
-ATO_LOOKAHEAD_S = 2.0
-"""The ATO does not accelerate within this many seconds (at its speed) of the indication point."""
-STATION_CREEP_M = 0.5
-"""The ATO starts braking for a station stop this far before its braking distance (and, stopped short, creeps up
-to the stopping point from farther than this)."""
-STATION_STOP_M = 0.2
-"""Within this of the stopping point the ATO stops the train with full service braking."""
 FLOAT_SLACK_M = 1e-6
 """The position interval is checked to contain the true front up to this (both are float sums)."""
 SENSOR_FAULTS = ("missed_tag", "spurious_tag", "tacho_drift", "tacho_slide")
 """Faults that may take the sensors outside their stated errors: the position interval is not checked to contain
 the true front on a train that has one (the position node's fault detection is what such a run tests)."""
-FLOAT_MARGIN = 1e-9
-"""Traction runs this fraction under the plant's bound, so that IEEE rounding never takes a motion past it."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
-AUTHORITY_PROPERTIES = tuple(p for p in (*select("authority.*"), *select("resources.*")) if p.node is AUTHORITY)
-RESOURCE_PROPERTIES = tuple(p for p in select("resources.*") if p.node is RESOURCES)
-DOOR_PROPERTIES = tuple(p for p in select("doors.*") if p.node is DOOR_LOOP)
-
-
-class SafetyViolation(AtcsViolation):
-    """A collision, or a train past a protection zone's start or the line's end."""
-
-    def __init__(self, what: str, train: str, step: int, time_s: float):
-        self.what, self.train, self.step, self.time_s = what, train, step, time_s
-        super().__init__(f"{train}: {what} at step {step} (t = {time_s:.1f} s)")
-
-
-@dataclass
-class TrainStats:
-    distance_m: float = 0.0
-    running_s: float = 0.0
-    max_speed_kmh: float = 0.0
-    emergency_brakes: int = 0
-    """ATP EB commands (rising edges)."""
-    service_brakes: int = 0
-    """ATP service-brake interventions (rising edges)."""
-    min_gap_m: float = math.inf
-    """The least distance from the front to the preceding train's rear."""
-    station_stops: int = 0
-    """Station stops completed: stopped at the stopping point, doors opened, dwell, doors closed and locked."""
-
-
-@dataclass
-class TrainRun:
-    spec: TrainSpec
-    plant: PlantParams
-    """Float plant data: the bounds the proofs assume, checked every cycle."""
-    position: Monitor
-    authority: AuthorityState
-    authority_params: AuthorityParams
-    """The whole route's; each cycle the node runs on the window the train needs (:meth:`Simulation._window`)."""
-    supervision: SupervisionState
-    front_m: float
-    speed_mps: float
-    brake_cycles: float
-    restrictions: SpeedRestrictions
-    """The train's MRSP on exact numbers, with the ATS's temporary restrictions merged in as they come and go."""
-    mrsp: Profile
-    """Float, from :attr:`restrictions`."""
-    gradient: Profile
-    train_data: TrainData
-    """Float, for the curves."""
-    national: NationalData
-    tag_base: int = 0
-    """The index (in :attr:`Simulation.tag_positions_m`) where the train's tag table starts: its position node's
-    tag indices count from it. On a loop the table is one lap of tags, moved on as the train runs round."""
-    last_distance_m: float = 0.0
-    last_tacho_m: float = 0.0
-    """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
-    door_params: DoorParams | None = None
-    dcu: DcuState = field(default_factory=lambda: DcuState(False, False))
-    next_station: int = 0
-    """The index of the next station stop (``len(stations)``: none left)."""
-    doors_opened_s: float | None = None
-    """When the doors opened at the current station stop."""
-    dwell_done: bool = False
-    """The doors have been commanded closed at the current stop."""
-    reference: ReferenceProfile | None = None
-    """The minimum-time profile the ATO tracks to the next station stop (``ato.reference_profile``)."""
-    references: list[ReferenceProfile] = field(default_factory=list)
-    """Every profile computed so far, one per stretch."""
-    outbox: list = field(default_factory=list)
-    """T2T reports sent and not yet delivered: (step delivered, report)."""
-    last_tag: int | None = None
-    """The tag the front passed in the last cycle (read in this one)."""
-    report: tuple[float, float] | None = None
-    """(min safe rear, min speed) of the train's report delivered this cycle (None: none delivered)."""
-    started: bool = False
-    """The driver has released the power-up emergency brake (at departure)."""
-    stopped_s: float | None = None
-    """When the train last came to a standstill with EB applied."""
-    stats: TrainStats = field(default_factory=TrainStats)
-    last: dict = field(default_factory=dict)
-    """This cycle's values for the trace."""
+AUTHORITY_PROPERTIES = registered_properties(AUTHORITY)
+RESOURCE_PROPERTIES = registered_properties(RESOURCES)
 
 
 class Simulation:
@@ -175,8 +85,9 @@ class Simulation:
         self.route_end_m = line * self.laps
         lap_starts, lap_ends = _grid(Fraction(0), line, scenario.resource_length_m)
         self.resources_per_lap = resources = len(lap_starts)
-        self.resource_starts = tuple(tuple(x + n * line for n in range(self.laps) for x in column)
-                                     for column in (lap_starts, lap_ends))
+        self.resource_starts = tuple(
+            tuple(x + n * line for n in range(self.laps) for x in column) for column in (lap_starts, lap_ends)
+        )
         self.resource_floats = tuple(tuple(float(x) for x in column) for column in self.resource_starts)
         layout = scenario.double_track
         self.resource_zone = tuple(layout.zone(x) if layout is not None else 1 for x in lap_starts)
@@ -186,11 +97,15 @@ class Simulation:
         laid = range(self.laps + 1) if scenario.loop else range(1)  # a lap more: the last table reaches it
         self.tag_positions_m = tuple(float(x + n * line) for n in laid for x in lap_tags)
         self.tag_ids = tuple(float(i) for _ in laid for i in self.tags.ids)
-        self.stops = tuple(dataclasses.replace(st, stop_m=st.stop_m + n * line)
-                           for n in range(self.laps) for st in scenario.stations)
+        self.stops = tuple(
+            dataclasses.replace(st, stop_m=st.stop_m + n * line) for n in range(self.laps) for st in scenario.stations
+        )
         """Every station stop in the order a train meets them (on a loop, lap after lap)."""
-        self.platforms = tuple(dataclasses.replace(p, start_m=p.start_m + n * line, end_m=p.end_m + n * line)
-                               for n in range(self.laps) for p in scenario.platforms)
+        self.platforms = tuple(
+            dataclasses.replace(p, start_m=p.start_m + n * line, end_m=p.end_m + n * line)
+            for n in range(self.laps)
+            for p in scenario.platforms
+        )
         self.door_tables = tuple(self._door_table(stop) for stop in self.stops)
         """The platform table the door loop gets on the way to each stop: the platforms there."""
         self.no_platforms = {k: floats(v) for k, v in platform_inputs((), capacity=1).items()}
@@ -220,35 +135,65 @@ class Simulation:
         gradient = self._laid_out(s.gradients_permille, 1)
         compensated = extend_by_train_length(EXACT, gradient, length)
         plant = PlantParams(
-            gradient_starts_m=compensated.starts_m, gradient_permille=compensated.values, line_end_m=self.route_end_m,
-            **{k: data[k] for k in ("rotating_mass_uphill_percent", "rotating_mass_downhill_percent",
-                                    "max_acceleration_mps2", "guaranteed_deceleration_mps2",
-                                    "max_deceleration_mps2", "cycle_s", "traction_cut_cycles",
-                                    "brake_build_up_cycles")},
+            gradient_starts_m=compensated.starts_m,
+            gradient_permille=compensated.values,
+            line_end_m=self.route_end_m,
+            **{
+                k: data[k]
+                for k in (
+                    "rotating_mass_uphill_percent",
+                    "rotating_mass_downhill_percent",
+                    "max_acceleration_mps2",
+                    "guaranteed_deceleration_mps2",
+                    "max_deceleration_mps2",
+                    "cycle_s",
+                    "traction_cut_cycles",
+                    "brake_build_up_cycles",
+                )
+            },
         )
         table = self._tag_window(first_tag) if s.loop else self.tags
-        pos = position_params(table, tag_window_m=s.tag_window_m, tacho_error=s.tacho_error,
-                              train_length_m=length, cycle_s=s.cycle_s,
-                              max_acceleration_mps2=plant.max_acceleration_mps2 + Fraction(1, 2),
-                              max_deceleration_mps2=plant.max_deceleration_mps2)
+        pos = position_params(
+            table,
+            tag_window_m=s.tag_window_m,
+            tacho_error=s.tacho_error,
+            train_length_m=length,
+            cycle_s=s.cycle_s,
+            max_acceleration_mps2=plant.max_acceleration_mps2 + Fraction(1, 2),
+            max_deceleration_mps2=plant.max_deceleration_mps2,
+        )
         authority = AuthorityParams(
-            resource_start_m=starts, resource_end_m=ends, resource_is_switch=(False,) * len(starts),
-            switch_needs_reverse=(False,) * len(starts), line_end_m=self.route_end_m, max_ma_m=s.max_ma_m,
+            resource_start_m=starts,
+            resource_end_m=ends,
+            resource_is_switch=(False,) * len(starts),
+            switch_needs_reverse=(False,) * len(starts),
+            line_end_m=self.route_end_m,
+            max_ma_m=s.max_ma_m,
             leader_max_deceleration_mps2=max(t.data.emergency_decelerations_mps2[0] for t in s.trains) + 1,
-            safety_margin_m=s.safety_margin_m, report_timeout_s=s.report_timeout_s, brick_wall=s.brick_wall,
+            safety_margin_m=s.safety_margin_m,
+            report_timeout_s=s.report_timeout_s,
+            brick_wall=s.brick_wall,
             cycle_s=s.cycle_s,
         )
         restrictions = SpeedRestrictions(pisl, ptsl, length)
         stations = [j for j, st in enumerate(self.stops) if st.stop_m > spec.front_m]
         return TrainRun(
-            spec=spec, plant=float_record(plant),
+            spec=spec,
+            plant=float_record(plant),
             position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0)),
-            authority=AuthorityState(False, *(Fraction(0),) * 3), authority_params=authority,
+            authority=AuthorityState(False, *(Fraction(0),) * 3),
+            authority_params=authority,
             supervision=SupervisionState(eb_latched=True, sb_latched=False),
-            front_m=float(spec.front_m), speed_mps=0.0, brake_cycles=float(plant.brake_build_up_cycles),
-            restrictions=restrictions, mrsp=as_float(restrictions.mrsp()), gradient=as_float(compensated),
-            train_data=float_record(d), national=float_record(s.national),
-            tag_base=first_tag if s.loop else 0, last_tag=first_tag,
+            front_m=float(spec.front_m),
+            speed_mps=0.0,
+            brake_cycles=float(plant.brake_build_up_cycles),
+            restrictions=restrictions,
+            mrsp=as_float(restrictions.mrsp()),
+            gradient=as_float(compensated),
+            train_data=float_record(d),
+            national=float_record(s.national),
+            tag_base=first_tag if s.loop else 0,
+            last_tag=first_tag,
             door_params=DoorParams(float(spec.first_door_m), float(spec.last_door_m)),
             next_station=stations[0] if stations else len(self.stops),
         )
@@ -256,15 +201,21 @@ class Simulation:
     def _laid_out(self, segments, unit) -> Profile:
         """A line profile (``value / unit`` from each segment's start) over the whole route, lap after lap."""
         line = self.scenario.line_m
-        return Profile(tuple(g.start_m + n * line for n in range(self.laps) for g in segments),
-                       tuple(g.value / unit for _ in range(self.laps) for g in segments), self.route_end_m)
+        return Profile(
+            tuple(g.start_m + n * line for n in range(self.laps) for g in segments),
+            tuple(g.value / unit for _ in range(self.laps) for g in segments),
+            self.route_end_m,
+        )
 
     def _tag_window(self, base: int):
         """One lap of tags from index ``base`` (ids as on the track, positions unrolled): a loop train's tag
         table."""
         n = len(self.tags)
-        return tag_table(self.scenario.source, self.tag_ids[base:base + n],
-                         [Fraction(x) for x in self.tag_positions_m[base:base + n]])
+        return tag_table(
+            self.scenario.source,
+            self.tag_ids[base : base + n],
+            [Fraction(x) for x in self.tag_positions_m[base : base + n]],
+        )
 
     def _move_tag_table(self, train: TrainRun) -> None:
         """On a loop, once a train is half way through its tag table, the table moves on to start at its last
@@ -274,8 +225,9 @@ class Simulation:
         if not self.scenario.loop or j < n // 2:
             return
         b = train.tag_base = train.tag_base + j
-        train.position.params = dataclasses.replace(train.position.params, tag_ids=self.tag_ids[b:b + n],
-                                                    tag_positions_m=self.tag_positions_m[b:b + n])
+        train.position.params = dataclasses.replace(
+            train.position.params, tag_ids=self.tag_ids[b : b + n], tag_positions_m=self.tag_positions_m[b : b + n]
+        )
         train.position.state = dataclasses.replace(state, lrt_index=0.0)
 
     def _door_table(self, stop) -> dict:
@@ -324,8 +276,9 @@ class Simulation:
                     name = f"restriction {j}" + (f", lap {n}" if n else "")
                     applied = name in train.restrictions.active
                     if active and not applied:
-                        train.restrictions.apply(name, Restriction(r.start_m + n * line, r.end_m + n * line,
-                                                                   r.kmh / KMH_PER_MPS))
+                        train.restrictions.apply(
+                            name, Restriction(r.start_m + n * line, r.end_m + n * line, r.kmh / KMH_PER_MPS)
+                        )
                     elif applied and not active:
                         train.restrictions.withdraw(name)
                     else:
@@ -370,8 +323,12 @@ class Simulation:
             trains = sorted(trains, key=lambda k: (self._behind_m(k, r), k))
             slots = [k * count + r for k in trains]
             code = {0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}}
-            part = ResourceState(owner=(code[owner[r]],), holding=tuple(holding[j] for j in slots),
-                                 up=tuple(up[j] for j in slots), down=tuple(down[j] for j in slots))
+            part = ResourceState(
+                owner=(code[owner[r]],),
+                holding=tuple(holding[j] for j in slots),
+                up=tuple(up[j] for j in slots),
+                down=tuple(down[j] for j in slots),
+            )
             every = (deliver(r),) * len(slots)
             inputs = ResourceInputs(send=tuple(j in sends for j in slots), deliver_up=every, deliver_down=every)
             nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
@@ -404,8 +361,13 @@ class Simulation:
         pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
         inside = pos.front_min_m - FLOAT_SLACK_M <= train.front_m <= pos.front_max_m + FLOAT_SLACK_M
         if pos.position_valid and not inside and not any(f.kind in SENSOR_FAULTS for f in spec.faults):
-            raise SafetyViolation(f"the true front {train.front_m:.3f} m is outside the position interval "
-                                  f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m", spec.name, self.step_count, t)
+            raise SafetyViolation(
+                f"the true front {train.front_m:.3f} m is outside the position interval "
+                f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m",
+                spec.name,
+                self.step_count,
+                t,
+            )
         zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
         report = leader.report if leader is not None else None
         if report is not None and leader_ahead_m:
@@ -413,118 +375,98 @@ class Simulation:
         # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
         # float rounding of a stopping point would break them by an ulp)
         lo, hi = self._window(train, pos, k)
-        window = dataclasses.replace(train.authority_params, **{
-            name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS})
+        window = dataclasses.replace(
+            train.authority_params, **{name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS}
+        )
         n, held, count = hi - lo, self.held[k], self.resources_per_lap
-        train.authority, auth = check_step(AUTHORITY, window, train.authority, AuthorityInputs(
-            front_max_m=Fraction(pos.front_max_m), rear_min_m=Fraction(pos.rear_min_m),
-            held=tuple(held[i % count] for i in range(lo, hi)),
-            switch_locked=(True,) * n, switch_reversed=(False,) * n, report_delivered=report is not None,
-            report_rear_m=Fraction(report[0] if report else 0), report_speed_mps=Fraction(report[1] if report else 0),
-            zone_active=bool(zones), zone_start_m=Fraction(min(zones) if zones else 0)),
-            AUTHORITY_PROPERTIES, self.step_count, ops=EXACT)
+        train.authority, auth = check_step(
+            AUTHORITY,
+            window,
+            train.authority,
+            AuthorityInputs(
+                front_max_m=Fraction(pos.front_max_m),
+                rear_min_m=Fraction(pos.rear_min_m),
+                held=tuple(held[i % count] for i in range(lo, hi)),
+                switch_locked=(True,) * n,
+                switch_reversed=(False,) * n,
+                report_delivered=report is not None,
+                report_rear_m=Fraction(report[0] if report else 0),
+                report_speed_mps=Fraction(report[1] if report else 0),
+                zone_active=bool(zones),
+                zone_start_m=Fraction(min(zones) if zones else 0),
+            ),
+            AUTHORITY_PROPERTIES,
+            self.step_count,
+            ops=EXACT,
+        )
         eoa_m = float(auth.eoa_m)
 
         horizon = Horizon(mrsp=train.mrsp, gradient=train.gradient, eoa_m=eoa_m, eoa_speed_mps=0.0)
         speed = pos.speed_est_mps
         a_est = float(train.plant.max_acceleration_mps2)
-        over, curves, _ = supervise_position(o, train.train_data, train.national, horizon, pos.front_max_m, speed,
-                                             a_est)
+        over, curves, _ = supervise_position(
+            o, train.train_data, train.national, horizon, pos.front_max_m, speed, a_est
+        )
         departed = t >= float(spec.depart_s)
         released = (departed and not train.started) or (
-            spec.eb_release_after_stop_s is not None and train.stopped_s is not None
-            and t >= train.stopped_s + float(spec.eb_release_after_stop_s))
+            spec.eb_release_after_stop_s is not None
+            and train.stopped_s is not None
+            and t >= train.stopped_s + float(spec.eb_release_after_stop_s)
+        )
         before = train.supervision
-        train.supervision, commands = supervise(o, SupervisionParams(True), before, over, pos.standstill,
-                                                released, pos.position_valid)
+        train.supervision, commands = supervise(
+            o, SupervisionParams(True), before, over, pos.standstill, released, pos.position_valid
+        )
         if train.started and commands.emergency_brake and not before.eb_latched:
             train.stats.emergency_brakes += 1
         if train.started and commands.service_brake and not before.sb_latched:
             train.stats.service_brakes += 1
 
         train.started = train.started or (departed and not commands.emergency_brake)
-        station, at_station, target, traction, ato_brake = self._ato(train, pos, eoa_m, curves, departed,
-                                                                     bool(commands.traction_cut))
+        station, at_station, target, traction, ato_brake = ato_commands(
+            self, train, pos, eoa_m, curves, departed, bool(commands.traction_cut)
+        )
         service_max = float(data.service_decelerations_mps2[0])
-        doors = self._doors(train, pos, station if at_station else None, t, immobilised=ato_brake > 0,
-                            traction_request=traction, supervision_cut=bool(commands.traction_cut))
+        doors = station_doors(
+            self,
+            train,
+            pos,
+            station if at_station else None,
+            t,
+            immobilised=ato_brake > 0,
+            traction_request=traction,
+            supervision_cut=bool(commands.traction_cut),
+        )
         traction = bool(doors.traction_applied)
         ignores_sb = spec.fault("ignores_service_brake", t) is not None
         service = 0.0 if ignores_sb else (service_max if commands.service_brake else ato_brake)
-        self._move(train, commands.emergency_brake, traction, service, t)
+        move(self, train, commands.emergency_brake, traction, service, t)
 
         if commands.emergency_brake and train.speed_mps == 0.0 and train.stopped_s is None:
             train.stopped_s = t
         if not commands.emergency_brake:
             train.stopped_s = None
         train.last = {
-            "t_s": t, "front_m": train.front_m, "speed_kmh": train.speed_mps * KMH,
-            "front_min_m": pos.front_min_m, "front_max_m": pos.front_max_m, "eoa_m": eoa_m,
-            "ebi_m": curves.ebi_m, "permitted_m": curves.permitted_m, "target_kmh": target.speed_mps * KMH,
-            "eb": bool(commands.emergency_brake), "sb": bool(commands.service_brake),
-            "traction": bool(traction), "position_valid": bool(pos.position_valid),
+            "t_s": t,
+            "front_m": train.front_m,
+            "speed_kmh": train.speed_mps * KMH,
+            "front_min_m": pos.front_min_m,
+            "front_max_m": pos.front_max_m,
+            "eoa_m": eoa_m,
+            "ebi_m": curves.ebi_m,
+            "permitted_m": curves.permitted_m,
+            "target_kmh": target.speed_mps * KMH,
+            "eb": bool(commands.emergency_brake),
+            "sb": bool(commands.service_brake),
+            "traction": bool(traction),
+            "position_valid": bool(pos.position_valid),
             "doors_open": bool(train.dcu.door_open_left or train.dcu.door_open_right),
         }
         if self.scenario.loop:  # where the front is on the double track
             train.last["track"], train.last["x_m"] = self.scenario.double_track.place(train.front_m)
-        report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid \
-            else None
+        report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid else None
         sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
-
-    def _ato(self, train: TrainRun, pos, eoa_m: float, curves, departed: bool, traction_cut: bool):
-        """The ATO (seed 003's target speed; seed 000: it follows the permitted curve): traction below the target
-        speed while short of the indication point for its speed, service braking above the target speed or
-        past the indication point; the station stop; the reference profile if the scenario asks for it.
-        Returns (the next station, whether the train stands at it, the target, traction, the service brake)."""
-        o, s, spec = FLOAT, self.scenario, train.spec
-        speed = pos.speed_est_mps
-        a_est = float(train.plant.max_acceleration_mps2)
-        ahead = limits_ahead(train.mrsp, pos.front_max_m)
-        under = float(s.ato_speed_margin_kmh) / KMH  # the ATO aims this far under the limits
-
-        def aim(limit_mps):
-            return max(limit_mps - under, limit_mps / 2)
-
-        planning_mps2 = float(s.planning_decel_kmhps) / KMH
-        target = ato_target(
-            o, front_m=pos.front_max_m, speed_mps=speed, line_limit_mps=aim(ahead.line_limit_mps),
-            train_max_mps=float(spec.max_speed_kmh) / KMH, next_limit_m=ahead.next_limit_m,
-            next_limit_mps=aim(ahead.next_limit_mps), ma_end_m=eoa_m, ma_speed_mps=0.0,
-            planning_decel_mps2=planning_mps2, margin_m=float(s.ato_margin_m))
-        service_max = float(spec.data.service_decelerations_mps2[0])
-        lookahead_m = speed * ATO_LOOKAHEAD_S
-        past_indication = pos.front_max_m + lookahead_m >= curves.indication_m
-        station = self.stops[train.next_station] if train.next_station < len(self.stops) else None
-        # the station stop: the estimated front brought to a stop at the stopping point
-        to_stop_m = float(station.stop_m) - pos.front_est_m if station is not None else math.inf
-        station_braking = to_stop_m <= speed * speed / (2 * planning_mps2) + STATION_CREEP_M
-        at_station = station is not None and speed == 0.0 and station_braking
-        tracking = None
-        if station is not None and s.ato_reference_profile and departed:
-            if train.reference is None:
-                train.reference = self._reference(train, pos.front_est_m, station)
-                train.references.append(train.reference)
-            reach_m = speed * self.dt + a_est * self.dt ** 2 / 2  # where a cycle of full traction ends
-            tracking = train.reference.speed_at(pos.front_est_m + reach_m)
-        aim_mps = target.speed_mps if tracking is None else min(target.speed_mps, tracking)
-        traction = (departed and speed < aim_mps - (0.3 if tracking is None else 0.02) and not past_indication
-                    and not traction_cut and not station_braking)
-        ato_brake = 0.0
-        if speed > 0 and (pos.front_max_m >= curves.indication_m or not departed):
-            ato_brake = service_max
-        elif speed > 0 and station_braking:  # at the stopping point (or a few cm from it): stop now
-            wanted = speed * speed / (2 * to_stop_m) if to_stop_m > STATION_STOP_M else service_max
-            ato_brake = min(service_max, wanted)
-        elif tracking is not None and speed > tracking:  # down to the profile's speed at the cycle's end
-            ato_brake = min(service_max, (speed - tracking) / self.dt)
-        elif speed > target.speed_mps:
-            distance = max(target.location_m - pos.front_max_m - float(s.ato_margin_m) / 2, 0.5)
-            wanted = (speed * speed - target.speed_mps ** 2) / (2 * distance)
-            ato_brake = min(service_max, max(wanted, 0.05))
-        elif at_station or not departed:
-            ato_brake = service_max  # holding the train at standstill
-        return station, at_station, target, traction, ato_brake
 
     def _window(self, train: TrainRun, pos, k: int) -> tuple[int, int]:
         """The resources (by index on the route) the authority node needs this cycle: those held, those from the
@@ -553,94 +495,6 @@ class Simulation:
         line = float(self.scenario.line_m)
         return [float(z.start_m) + n * line for z in self.scenario.zones if z.active_at(t) for n in range(self.laps)]
 
-    def _doors(self, train: TrainRun, pos, station, t: float, *, immobilised: bool, traction_request: bool,
-               supervision_cut: bool):
-        """The door loop (:data:`~atcs.model.doors.DOOR_LOOP`, its properties checked each cycle) and the ATO's
-        door cycle at a station stop: open on the platform's side, wait the dwell time from the doors opening,
-        close, and depart once the DCU reports every door closed and locked."""
-        left, right = _station_sides(self.platforms, station, train.spec) if station is not None else (False, False)
-        opening = station is not None and not train.dwell_done
-        obstructed = train.spec.fault("stuck_door", t) is not None
-        inputs = DoorLoopInputs(
-            position_valid=pos.position_valid, front_min_m=pos.front_min_m, front_max_m=pos.front_max_m,
-            speed_mps=pos.speed_est_mps, standstill=pos.standstill, immobilised=immobilised,
-            stopping_point_m=float(station.stop_m) if station is not None else 0.0,
-            stop_tolerance_m=float(self.scenario.stop_tolerance_m), **self._platforms_ahead(train),
-            request_left=opening and left, request_right=opening and right,
-            probe_front_m=pos.front_min_m, probe_door_m=train.door_params.last_door_m,
-            open_left=opening and left, open_right=opening and right, close=train.dwell_done,
-            obstructed_left=obstructed, obstructed_right=obstructed, traction_request=traction_request,
-            supervision_traction_cut=supervision_cut)
-        train.dcu, out = check_step(DOOR_LOOP, train.door_params, train.dcu, inputs, DOOR_PROPERTIES,
-                                    self.step_count)
-        if station is not None:
-            if train.doors_opened_s is None and (train.dcu.door_open_left or train.dcu.door_open_right):
-                train.doors_opened_s = t
-            if train.doors_opened_s is not None and t >= train.doors_opened_s + float(station.dwell_s):
-                train.dwell_done = True
-            if train.dwell_done and out.closed_locked:
-                train.next_station += 1
-                train.reference = None
-                train.stats.station_stops += 1
-                train.doors_opened_s, train.dwell_done = None, False
-        return out
-
-    def _platforms_ahead(self, train: TrainRun) -> dict:
-        """The door loop's platform table: the platforms at the train's next station stop (none past the last)."""
-        return self.door_tables[train.next_station] if train.next_station < len(self.stops) else self.no_platforms
-
-    def _reference(self, train: TrainRun, from_m: float, station) -> ReferenceProfile:
-        """The minimum-time profile from ``from_m`` to the station's stop: under the ATP's indication curve for
-        the line (less the ATO's speed margin), the train's traction and the ATO's planning deceleration."""
-        s = self.scenario
-        horizon = Horizon(train.mrsp, train.gradient, float(self.route_end_m), 0.0)
-        margin_mps = max(float(s.ato_speed_margin_kmh) / KMH, 0.5)
-        ceiling = atp_ceiling(train.train_data, train.national, horizon, margin_mps=margin_mps)
-        return minimum_time_profile(ceiling, from_m, float(station.stop_m),
-                                    accel_mps2=float(train.plant.max_acceleration_mps2),
-                                    decel_mps2=float(s.planning_decel_kmhps) / KMH)
-
-    def _move(self, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float, t: float) -> None:
-        """The plant: nominal traction and brakes, checked against the proofs' plant bounds; the tachometer reads
-        the distance (scaled under a ``tacho_drift`` fault, or a ``tacho_slide`` one while braking)."""
-        p, dt = train.plant, self.dt
-        data = train.spec.data
-        brake_on = emergency_brake and train.brake_cycles >= p.brake_build_up_cycles
-        grade = value_at(FLOAT, train.gradient, train.front_m)
-        a = -float(gradient_braking_mps2(FLOAT, p, grade))
-        if brake_on:
-            a -= float(data.emergency_decelerations_mps2[0])
-        elif traction and not emergency_brake:
-            a += float(p.max_acceleration_mps2) * (1 - FLOAT_MARGIN)
-        else:
-            a -= service_mps2
-        v = train.speed_mps
-        v_next = max(0.0, v + a * dt)
-        distance = v * v / (-2 * a) if v_next == 0.0 and a < 0 else (v + v_next) / 2 * dt
-        state = PlantState(front_m=train.front_m, speed_mps=v, brake_cycles=train.brake_cycles)
-        if not plant_admits(FLOAT, p, state, emergency_brake, v_next, distance):
-            raise SafetyViolation(f"the motion ({v:.3f} -> {v_next:.3f} m/s over {distance:.3f} m) leaves the "
-                                  "proofs' plant bounds", train.spec.name, self.step_count, self.time_s)
-        tags = self.tag_positions_m
-        passed = range(bisect.bisect_right(tags, train.front_m), bisect.bisect_right(tags, train.front_m + distance))
-        train.last_tag = passed[-1] if passed else None
-        if passed and train.front_m + distance - tags[passed[-1]] > train.position.params.tag_window_m:
-            raise SafetyViolation(f"ran {distance:.3f} m in a cycle, past the tag window (atp.tag_window_m): the tag "
-                                  "reader's report would be late beyond the position node's assumption",
-                                  train.spec.name, self.step_count, self.time_s)
-        train.front_m += distance
-        train.speed_mps = v_next
-        train.last_distance_m = distance
-        drift, slide = train.spec.fault("tacho_drift", t), train.spec.fault("tacho_slide", t)
-        braking = a < 0 and v > 0
-        factor = drift.value if drift is not None else (slide.value if slide is not None and braking else 1)
-        train.last_tacho_m = distance * float(factor)
-        train.brake_cycles = min(train.brake_cycles + 1, p.brake_build_up_cycles) if emergency_brake else 0.0
-        stats = train.stats
-        stats.distance_m += distance
-        stats.running_s += dt if distance > 0 else 0.0
-        stats.max_speed_kmh = max(stats.max_speed_kmh, v_next * KMH)
-
     def _check(self) -> None:
         for k, train in enumerate(self.trains):
             leader, ahead_m = self._leader(k)
@@ -648,15 +502,16 @@ class Simulation:
                 gap = leader.front_m + ahead_m - float(leader.spec.data.train_length_m) - train.front_m
                 train.stats.min_gap_m = min(train.stats.min_gap_m, gap)
                 if gap <= 0:
-                    raise SafetyViolation(f"collision with {leader.spec.name}", train.spec.name, self.step_count,
-                                          self.time_s)
+                    raise SafetyViolation(
+                        f"collision with {leader.spec.name}", train.spec.name, self.step_count, self.time_s
+                    )
             for start in self._zone_starts(self.time_s):
                 if train.front_m - train.last_distance_m <= start < train.front_m:
-                    raise SafetyViolation(f"entered the protection zone at {start:g} m", train.spec.name,
-                                          self.step_count, self.time_s)
+                    raise SafetyViolation(
+                        f"entered the protection zone at {start:g} m", train.spec.name, self.step_count, self.time_s
+                    )
             if train.front_m > float(self.route_end_m):
-                raise SafetyViolation("ran past the end of the line", train.spec.name, self.step_count,
-                                      self.time_s)
+                raise SafetyViolation("ran past the end of the line", train.spec.name, self.step_count, self.time_s)
 
     def run(self) -> Simulation:
         cycles = int(self.scenario.duration_s / self.scenario.cycle_s)
@@ -670,29 +525,12 @@ def _laps(scenario: Scenario) -> int:
     beyond (1 on an open line)."""
     if not scenario.loop:
         return 1
-    reach = max(t.front_m for t in scenario.trains) + scenario.duration_s * max(
-        t.max_speed_kmh for t in scenario.trains) / KMH_PER_MPS + 2 * scenario.max_ma_m
+    reach = (
+        max(t.front_m for t in scenario.trains)
+        + scenario.duration_s * max(t.max_speed_kmh for t in scenario.trains) / KMH_PER_MPS
+        + 2 * scenario.max_ma_m
+    )
     return int(reach // scenario.line_m) + 1
-
-
-def _station_sides(platforms, station, spec: TrainSpec) -> tuple[bool, bool]:
-    """The sides (left, right) of the platforms that span the train's doors at the station's stopping point: the
-    sides the ATO asks to open."""
-    spans = [p for p in platforms
-             if p.start_m <= station.stop_m - spec.last_door_m and station.stop_m - spec.first_door_m <= p.end_m]
-    return any(p.left for p in spans), any(p.right for p in spans)
-
-
-def trace_text(rows: list[dict], suffix: str) -> str:
-    """A trace as CSV (one row per train and cycle) or JSON lines."""
-    if suffix == ".jsonl":
-        return "".join(json.dumps(row) + "\n" for row in rows)
-    buffer = io.StringIO()
-    if rows:
-        writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
-        writer.writeheader()
-        writer.writerows(rows)
-    return buffer.getvalue()
 
 
 def _grid(start: Fraction, end: Fraction, spacing: Fraction) -> tuple[tuple[Fraction, ...], tuple[Fraction, ...]]:

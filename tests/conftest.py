@@ -50,8 +50,12 @@ def _uses(item, fixture: str) -> bool:
 def pytest_collection_modifyitems(session, config, items):
     """The tests that read the session's proof report run last, so the rest overlaps the proof run; those that
     read its certificates after them."""
-    items.sort(key=lambda item: (_uses(item, "proof_suite_run") or _uses(item, "certify_suite_run"),
-                                 _uses(item, "certify_suite_run")))
+    items.sort(
+        key=lambda item: (
+            _uses(item, "proof_suite_run") or _uses(item, "certify_suite_run"),
+            _uses(item, "certify_suite_run"),
+        )
+    )
 
 
 def pytest_collection_finish(session):
@@ -63,18 +67,50 @@ def pytest_collection_finish(session):
     if not (proofs or certificates):
         return
     out_dir = Path(tempfile.mkdtemp(prefix="atcs-prove-"))
-    paths = SimpleNamespace(json=out_dir / "r.json", junit=out_dir / "r.xml", cex=out_dir / "cex",
-                            stdout=out_dir / "stdout.txt", proved=out_dir / "prove.exit",
-                            certificates=out_dir / "certificates", certify_stdout=out_dir / "certify.txt")
-    prove = ["prove", "--jobs", "2", "--json", str(paths.json), "--junit", str(paths.junit),
-             "--cex-dir", str(paths.cex)]
-    certify = ["certify", "--report", str(paths.json), "--dir", str(paths.certificates), "--jobs", "2",
-               *(a for solver, limit in CERTIFY_TIMEOUTS_S.items() for a in (f"--{solver}-timeout", str(limit)))]
+    paths = SimpleNamespace(
+        json=out_dir / "r.json",
+        junit=out_dir / "r.xml",
+        cex=out_dir / "cex",
+        stdout=out_dir / "stdout.txt",
+        proved=out_dir / "prove.exit",
+        certificates=out_dir / "certificates",
+        certify_stdout=out_dir / "certify.txt",
+    )
+    prove = [
+        "prove",
+        "--jobs",
+        "2",
+        "--json",
+        str(paths.json),
+        "--junit",
+        str(paths.junit),
+        "--cex-dir",
+        str(paths.cex),
+    ]
+    certify = [
+        "certify",
+        "--report",
+        str(paths.json),
+        "--dir",
+        str(paths.certificates),
+        "--jobs",
+        "2",
+        *(a for solver, limit in CERTIFY_TIMEOUTS_S.items() for a in (f"--{solver}-timeout", str(limit))),
+    ]
     with paths.stdout.open("w") as stdout:
         process = subprocess.Popen(
-            [sys.executable, "-c", _BACKGROUND, json.dumps(prove), json.dumps(certify) if certificates else "",
-             str(paths.proved), str(paths.certify_stdout)],
-            stdout=stdout, stderr=subprocess.STDOUT)
+            [
+                sys.executable,
+                "-c",
+                _BACKGROUND,
+                json.dumps(prove),
+                json.dumps(certify) if certificates else "",
+                str(paths.proved),
+                str(paths.certify_stdout),
+            ],
+            stdout=stdout,
+            stderr=subprocess.STDOUT,
+        )
     _PROOF_RUN.update(process=process, paths=paths, dir=out_dir)
 
 
@@ -99,8 +135,15 @@ def proof_suite_run():
     if not paths.json.exists():
         pytest.fail(f"atcs prove exited with {code} and wrote no report:\n{paths.stdout.read_text()}")
     doc = json.loads(paths.json.read_text())
-    return SimpleNamespace(code=code, doc=doc, by_name={p["name"]: p for p in doc["properties"]},
-                           stdout=paths.stdout.read_text(), json=paths.json, junit=paths.junit, cex=paths.cex)
+    return SimpleNamespace(
+        code=code,
+        doc=doc,
+        by_name={p["name"]: p for p in doc["properties"]},
+        stdout=paths.stdout.read_text(),
+        json=paths.json,
+        junit=paths.junit,
+        cex=paths.cex,
+    )
 
 
 @pytest.fixture(scope="session")
@@ -114,6 +157,11 @@ def certify_suite_run(proof_suite_run):
         output = paths.certify_stdout.read_text() if paths.certify_stdout.exists() else ""
         pytest.fail(f"atcs certify exited with {code} and wrote no certificates.json:\n{output}")
     doc = json.loads(listing.read_text())
-    return SimpleNamespace(code=code, doc=doc, by_name={p["name"]: p for p in doc["properties"]},
-                           dir=paths.certificates, stdout=paths.certify_stdout.read_text(),
-                           timeouts_s=CERTIFY_TIMEOUTS_S)
+    return SimpleNamespace(
+        code=code,
+        doc=doc,
+        by_name={p["name"]: p for p in doc["properties"]},
+        dir=paths.certificates,
+        stdout=paths.certify_stdout.read_text(),
+        timeouts_s=CERTIFY_TIMEOUTS_S,
+    )

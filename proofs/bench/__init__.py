@@ -43,8 +43,14 @@ def _supervision_inputs(trains: int, rng: np.random.Generator):
     ebi = sbi + rng.uniform(0, 1.5, trains)
     speed = rng.uniform(0, 30, trains)
     return SupervisionInputs(
-        speed_mps=speed, permitted_mps=permitted, warning_mps=warning, sbi_mps=sbi, ebi_mps=ebi,
-        standstill=speed < 0.1, eb_release=rng.random(trains) < 0.5, position_valid=rng.random(trains) < 0.99,
+        speed_mps=speed,
+        permitted_mps=permitted,
+        warning_mps=warning,
+        sbi_mps=sbi,
+        ebi_mps=ebi,
+        standstill=speed < 0.1,
+        eb_release=rng.random(trains) < 0.5,
+        position_valid=rng.random(trains) < 0.99,
     )
 
 
@@ -119,14 +125,14 @@ def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -
         index = np.searchsorted(np.asarray(p.starts_m), metres, side="right") - 1
         vsp = np.minimum(vsp, np.asarray(p.values)[index])
     for r in restrictions:
-        vsp[int(r.start_m):int(r.end_m)] = np.minimum(vsp[int(r.start_m):int(r.end_m)], r.limit_mps)
+        vsp[int(r.start_m) : int(r.end_m)] = np.minimum(vsp[int(r.start_m) : int(r.end_m)], r.limit_mps)
     width = int(train_m) + 1
     table = np.concatenate([np.full(width - 1, np.inf), vsp])
     span = 1
     while span * 2 <= width:
         table = np.minimum(table[:-span], table[span:])
         span *= 2
-    return np.minimum(table[:line_m], table[width - span:width - span + line_m])
+    return np.minimum(table[:line_m], table[width - span : width - span + line_m])
 
 
 def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
@@ -187,12 +193,20 @@ def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
     table.add_column("/ incremental", justify="right")
     base = rows["incremental window update (seed 002)"]
     for name, (t1, t10) in rows.items():
-        table.add_row(name, f"{t1 * 1e3:.3f}", f"{t10 * 1e3:.3f}", f"{t10 / t1:.1f}x",
-                      f"{t1 / base[0]:.0f}x / {t10 / base[1]:.0f}x")
+        table.add_row(
+            name,
+            f"{t1 * 1e3:.3f}",
+            f"{t10 * 1e3:.3f}",
+            f"{t10 / t1:.1f}x",
+            f"{t1 / base[0]:.0f}x / {t10 / base[1]:.0f}x",
+        )
     console.print(table)
     return results
 
 
 BENCHMARKS: dict[str, Callable[[Console], object]] = {
-    "supervision": bench_supervision, "mrsp": bench_mrsp, "cycle": bench_cycle, "sim": bench_sim,
+    "supervision": bench_supervision,
+    "mrsp": bench_mrsp,
+    "cycle": bench_cycle,
+    "sim": bench_sim,
 }

@@ -1,4 +1,4 @@
-"""``atcs bench cycle``: one full supervision cycle on a 1.5 km horizon (issue 4), from segments as the
+"""``atcs bench cycle``: one full supervision cycle on a 1.5 km horizon, from segments as the
 model computes it, against a per-metre array formulation of the same curves; and the closed-loop proof
 time. Measured side by side in one run; the two formulations' decisions are checked to agree."""
 
@@ -74,8 +74,10 @@ def per_metre_cycle(t, n, horizon: Horizon, front_m: float, speed_mps: float, a_
         return bool(ebd_mps[index] < v_bec)
 
     ceiling = ceilings(FLOAT, n, value_at(FLOAT, horizon.mrsp, front_m))
-    return {"ebi": over(0.0) or speed_mps > ceiling.ebi_mps,
-            "sbi": over(speed_mps * t.t_bs_s) or speed_mps > ceiling.sbi_mps}
+    return {
+        "ebi": over(0.0) or speed_mps > ceiling.ebi_mps,
+        "sbi": over(speed_mps * t.t_bs_s) or speed_mps > ceiling.sbi_mps,
+    }
 
 
 def bench_cycle(console: Console, cycles: int = 60, prove_closed_loop: bool = True) -> dict[str, float]:
@@ -104,18 +106,23 @@ def bench_cycle(console: Console, cycles: int = 60, prove_closed_loop: bool = Tr
             same = getattr(over, f"over_{name}") == arrays[name]
             agree += same
             if not same and abs(getattr(curve, f"{name}_m") - front) > 1.0:  # beyond the arrays' 1 m rounding
-                raise AssertionError(f"bench cycle: the formulations disagree on {name} at front {front} m, "
-                                     f"speed {speed} m/s")
+                raise AssertionError(
+                    f"bench cycle: the formulations disagree on {name} at front {front} m, speed {speed} m/s"
+                )
     seg, arr = float(np.median(segment_s)), float(np.median(metre_s))
-    table = Table(title=f"bench cycle: one supervision cycle, {HORIZON_M} m horizon, {SEGMENTS} speed and "
-                        f"{SEGMENTS} gradient segments, {np.median(targets):g} targets (median of {cycles})")
+    table = Table(
+        title=f"bench cycle: one supervision cycle, {HORIZON_M} m horizon, {SEGMENTS} speed and "
+        f"{SEGMENTS} gradient segments, {np.median(targets):g} targets (median of {cycles})"
+    )
     for col in ("formulation", "per cycle (ms)", "share of 100 ms cycle", "vs segments"):
         table.add_column(col, justify="left" if col == "formulation" else "right")
     table.add_row("segments (the model, float)", f"{seg * 1e3:.3f}", f"{seg / CYCLE_S:.2%}", "1.0x")
     table.add_row("per-metre arrays (numpy)", f"{arr * 1e3:.3f}", f"{arr / CYCLE_S:.2%}", f"{arr / seg:.1f}x")
     console.print(table)
-    console.print(f"EBI and SBI decisions agree in {agree} of {compared} checks "
-                  "(any difference within the arrays' 1 m rounding of a curve)")
+    console.print(
+        f"EBI and SBI decisions agree in {agree} of {compared} checks "
+        "(any difference within the arrays' 1 m rounding of a curve)"
+    )
     results = {"segments_s": seg, "per_metre_s": arr, "agree": agree, "compared": compared}
     if prove_closed_loop:
         results.update(_closed_loop_proofs(console))

@@ -1,4 +1,4 @@
-"""``atcs bench sim``: the simulator's cost as the fleet grows (issue 8), measured side by side in one run.
+"""``atcs bench sim``: the simulator's cost as the fleet grows, measured side by side in one run.
 
 The seed 002 timetable's double track (56.8 km with a turn-back at each end, a loop of 114.4 km; tags every
 200 m, 100 m resources, ten stations a track) with 2, 20 and 100 trains spaced 400 m apart from the loop's
@@ -35,13 +35,18 @@ def fleet_scenario(trains: int):
     if not 1 <= trains <= most:
         raise ValueError(f"trains must be from 1 to {most}, got {trains!r}")
     template = base.trains[0]
-    specs = tuple(dataclasses.replace(template, name=f"T{k + 1}", front_m=Fraction(SPACING_M * (trains - k)),
-                                      depart_s=Fraction(0)) for k in range(trains))
+    specs = tuple(
+        dataclasses.replace(
+            template, name=f"T{k + 1}", front_m=Fraction(SPACING_M * (trains - k)), depart_s=Fraction(0)
+        )
+        for k in range(trains)
+    )
     return dataclasses.replace(base, name=f"{base.name}_{trains}_trains", trains=specs)
 
 
-def bench_sim(console: Console, fleets: tuple[int, ...] = FLEETS, warm_up: int = WARM_UP_CYCLES,
-              cycles: int = TIMED_CYCLES) -> dict[str, float]:
+def bench_sim(
+    console: Console, fleets: tuple[int, ...] = FLEETS, warm_up: int = WARM_UP_CYCLES, cycles: int = TIMED_CYCLES
+) -> dict[str, float]:
     """Wall time per cycle and per train-cycle, and the real-time factor, for each fleet size."""
     results: dict[str, float] = {}
     rows = []
@@ -57,14 +62,21 @@ def bench_sim(console: Console, fleets: tuple[int, ...] = FLEETS, warm_up: int =
         rows.append((trains, per_cycle_s, sim.dt / per_cycle_s))
         results[f"{trains}_trains_cycle_s"] = per_cycle_s
         results[f"{trains}_trains_real_time_factor"] = sim.dt / per_cycle_s
-    table = Table(title=f"bench sim: seed 002 double track, trains every {SPACING_M} m, {cycles} cycles timed after "
-                        f"{warm_up} of warm-up, every property checked every cycle")
+    table = Table(
+        title=f"bench sim: seed 002 double track, trains every {SPACING_M} m, {cycles} cycles timed after "
+        f"{warm_up} of warm-up, every property checked every cycle"
+    )
     for column in ("trains", "ms / cycle", "ms / train-cycle", "/ smallest fleet's per train", "real-time factor"):
         table.add_column(column, justify="right")
     base = rows[0][1] / rows[0][0]
     for trains, per_cycle_s, factor in rows:
         per_train = per_cycle_s / trains
-        table.add_row(str(trains), f"{per_cycle_s * 1e3:.1f}", f"{per_train * 1e3:.2f}", f"{per_train / base:.2f}x",
-                      f"{factor:.2f}")
+        table.add_row(
+            str(trains),
+            f"{per_cycle_s * 1e3:.1f}",
+            f"{per_train * 1e3:.2f}",
+            f"{per_train / base:.2f}x",
+            f"{factor:.2f}",
+        )
     console.print(table)
     return results

@@ -81,8 +81,9 @@ def depths_from_report(path: str | Path) -> dict[str, int]:
         raise ProveReportError(f"{path}: properties is missing or not a list (is it an atcs prove --json report?)")
     depths = {}
     for j, record in enumerate(records):
-        name, status, k = (record.get(key) for key in ("name", "status", "k")) if isinstance(record, dict) \
-            else (None, None, None)
+        name, status, k = (
+            (record.get(key) for key in ("name", "status", "k")) if isinstance(record, dict) else (None, None, None)
+        )
         if not isinstance(name, str) or name not in PROPERTIES:
             raise ProveReportError(f"{path}: properties[{j}].name = {name!r} is not a registered property")
         if status == "proved":
@@ -103,8 +104,13 @@ def solver_timeouts(timeout_s: float | Mapping[str, float]) -> dict[str, float]:
     return limits
 
 
-def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float],
-                cvc5_resource_limit: int | None = None, z3_only: bool = False) -> Certified:
+def certify_one(
+    name: str,
+    k: int,
+    timeout_s: float | Mapping[str, float],
+    cvc5_resource_limit: int | None = None,
+    z3_only: bool = False,
+) -> Certified:
     """The certificate of one registered property proved at depth ``k``, checked by every solver within its
     per-check time limit (:func:`solver_timeouts`), cvc5 also within ``cvc5_resource_limit`` units a check;
     with ``z3_only`` cvc5 is not asked (its checks say so, and the property stays unconfirmed)."""
@@ -124,8 +130,11 @@ def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float],
                 continue
             same = done.get((solver, ob.formula))
             if same is not None:  # the same formula: the same verdict, not checked twice
-                checks.append(SolverCheck(solver, ob.check, same.verdict, 0.0, f"the formula of {same.check}",
-                                          same.resource_units))
+                checks.append(
+                    SolverCheck(
+                        solver, ob.check, same.verdict, 0.0, f"the formula of {same.check}", same.resource_units
+                    )
+                )
                 continue
             check = check_obligation(solver, ob, limits[solver], cvc5_resource_limit if solver == "cvc5" else None)
             done[(solver, ob.formula)] = check
@@ -135,9 +144,16 @@ def certify_one(name: str, k: int, timeout_s: float | Mapping[str, float],
     return Certified(name, prop.requirement, k, prop.lemmas, obs, tuple(checks))
 
 
-def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float | Mapping[str, float], jobs: int = 1,
-        cvc5_resource_limit: int | None = None, z3_only: Collection[str] = (),
-        on_start: Callable[[Property], None] = lambda p: None) -> Iterator[Certified]:
+def run(
+    props: list[Property],
+    depths: Mapping[str, int],
+    *,
+    timeout_s: float | Mapping[str, float],
+    jobs: int = 1,
+    cvc5_resource_limit: int | None = None,
+    z3_only: Collection[str] = (),
+    on_start: Callable[[Property], None] = lambda p: None,
+) -> Iterator[Certified]:
     """Yield the certificate of each property in ``depths``, checked, in completion order (``timeout_s``: one
     per-check limit for both solvers, or one per solver; ``z3_only``: the properties cvc5 is not asked about)."""
     timeout_s = solver_timeouts(timeout_s)
@@ -153,14 +169,18 @@ def run(props: list[Property], depths: Mapping[str, int], *, timeout_s: float | 
         futures = []
         for prop in todo:
             on_start(prop)
-            futures.append(pool.submit(certify_one, prop.name, depths[prop.name], timeout_s, cvc5_resource_limit,
-                                       prop.name in z3_only))
+            futures.append(
+                pool.submit(
+                    certify_one, prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only
+                )
+            )
         for future in as_completed(futures):
             yield future.result()
 
 
 def settle(results: Mapping[str, Certified], depths: Mapping[str, int]) -> None:
     """Give each certificate its status, a property being certified only if its lemmas are."""
+
     def status(name: str, chain: tuple[str, ...] = ()) -> str:
         c = results[name]
         if c.status:
@@ -171,8 +191,10 @@ def settle(results: Mapping[str, Certified], depths: Mapping[str, int]) -> None:
             return own
         for lemma in c.lemmas:
             if lemma not in results or lemma in chain:
-                c.status, c.message = CertificateStatus.UNCONFIRMED, f"lemma {lemma} has no certificate" + (
-                    "" if lemma in depths else " (it was not proved)")
+                c.status, c.message = (
+                    CertificateStatus.UNCONFIRMED,
+                    f"lemma {lemma} has no certificate" + ("" if lemma in depths else " (it was not proved)"),
+                )
                 return c.status
             if status(lemma, (*chain, name)) != CertificateStatus.CERTIFIED:
                 c.status, c.message = CertificateStatus.UNCONFIRMED, f"lemma {lemma} is {results[lemma].status}"
@@ -191,20 +213,41 @@ def _message(c: Certified) -> str:
     for ch in bad:
         if ch not in said:
             skipped[ch.reason] = skipped.get(ch.reason, 0) + 1
-    return "; ".join([*(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "")
-                        for ch in said),
-                      *(f"{n} {'check' if n == 1 else 'checks'} {why}" for why, n in skipped.items())])
+    return "; ".join(
+        [
+            *(f"{ch.solver} says {ch.verdict} on {ch.check}" + (f" ({ch.reason})" if ch.reason else "") for ch in said),
+            *(f"{n} {'check' if n == 1 else 'checks'} {why}" for why, n in skipped.items()),
+        ]
+    )
 
 
 def record(c: Certified, directory: Path | None) -> dict:
     """A certificate's JSON record (its scripts' files relative to ``directory``)."""
     return {
-        "name": c.name, "requirement": c.requirement, "k": c.k, "lemmas": list(c.lemmas), "status": c.status,
-        "confirmed_by": list(c.confirmed_by), "message": c.message,
-        "checks": [{"check": ob.check, "claim": ob.claim, "file": f"{c.name}/{ob.check}.smt2" if directory else None,
-                    "sha256": ob.sha256,
-                    **{ch.solver: {"verdict": ch.verdict, "seconds": round(ch.seconds, 3), "reason": ch.reason,
-                                   **({} if ch.resource_units is None else {"resource_units": ch.resource_units})}
-                       for ch in c.checks if ch.check == ob.check}}
-                   for ob in c.obligations],
+        "name": c.name,
+        "requirement": c.requirement,
+        "k": c.k,
+        "lemmas": list(c.lemmas),
+        "status": c.status,
+        "confirmed_by": list(c.confirmed_by),
+        "message": c.message,
+        "checks": [
+            {
+                "check": ob.check,
+                "claim": ob.claim,
+                "file": f"{c.name}/{ob.check}.smt2" if directory else None,
+                "sha256": ob.sha256,
+                **{
+                    ch.solver: {
+                        "verdict": ch.verdict,
+                        "seconds": round(ch.seconds, 3),
+                        "reason": ch.reason,
+                        **({} if ch.resource_units is None else {"resource_units": ch.resource_units}),
+                    }
+                    for ch in c.checks
+                    if ch.check == ob.check
+                },
+            }
+            for ob in c.obligations
+        ],
     }

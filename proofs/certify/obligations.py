@@ -1,4 +1,4 @@
-"""Proof certificates (issue 9): a proved property's k-inductive invariant as SMT-LIB 2 scripts, checked by z3
+"""Proof certificates: a proved property's k-inductive invariant as SMT-LIB 2 scripts, checked by z3
 and by cvc5, independently of the engine that found the proof.
 
 A proof by k-induction (:mod:`atcs.proofs.engine.prove`) gives the invariant ``(k, phi)`` with ``phi`` the property
@@ -40,7 +40,7 @@ VERDICTS = ("unsat", "sat", "unknown")
 CVC5_OPTIONS = {"incremental": "false"}
 """The options cvc5 checks every script with, set through its API before the script is read (README,
 ``atcs certify``). A script has one ``(check-sat)``; cvc5's API solver is incremental by default, and without
-that mode it answers the closed-loop step case that had no answer in 660 s in 47 s."""
+that mode it answers the closed-loop step case, which it otherwise does not."""
 
 
 @dataclass(frozen=True)
@@ -88,11 +88,19 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
         header = f"{prop.name} ({prop.requirement}), k = {k}"
         init = u.init()
         initial = [] if z3.is_true(z3.simplify(init)) else [init]  # a stateless node: every state is initial
-        result = [Obligation("base", f"no run from an initial state violates {prop.name} within {k + 1} steps",
-                             _script(header, "base", [*initial, *path, z3.Not(_all(f.prop for f in frames))]))]
+        result = [
+            Obligation(
+                "base",
+                f"no run from an initial state violates {prop.name} within {k + 1} steps",
+                _script(header, "base", [*initial, *path, z3.Not(_all(f.prop for f in frames))]),
+            )
+        ]
         step = [*path, *(u.distinct(j, k) for j in range(k)), *(f.prop for f in frames[:k]), z3.Not(frames[k].prop)]
-        claim = (f"{prop.name} holds after any {k} distinct steps on which it held" if k else
-                 f"{prop.name} holds in every state and input that meet its assumptions")
+        claim = (
+            f"{prop.name} holds after any {k} distinct steps on which it held"
+            if k
+            else f"{prop.name} holds in every state and input that meet its assumptions"
+        )
         split = prop.certificate_cases or prop.cases
         if split is None:
             result.append(Obligation("step", claim, _script(header, "step", step)))
@@ -101,12 +109,21 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
             every = (*cases, SYMBOLIC.not_(SYMBOLIC.or_(*cases)))
             for j, case in enumerate(every, start=1):
                 what = f"case {j} of {len(every)}" + (" (the states in no other case)" if j == len(every) else "")
-                result.append(Obligation(f"step_case_{j}", f"{claim}: {what}",
-                                         _script(header, f"step, {what}", [*step, unwrap(case)])))
+                result.append(
+                    Obligation(
+                        f"step_case_{j}", f"{claim}: {what}", _script(header, f"step, {what}", [*step, unwrap(case)])
+                    )
+                )
         first = frames[0]
-        result.append(Obligation(
-            "invariant", f"the invariant (the property itself, k = {k}) implies {prop.name}",
-            _script(header, "invariant", [first.trans, first.assumed, first.lemmas, first.prop, z3.Not(first.prop)])))
+        result.append(
+            Obligation(
+                "invariant",
+                f"the invariant (the property itself, k = {k}) implies {prop.name}",
+                _script(
+                    header, "invariant", [first.trans, first.assumed, first.lemmas, first.prop, z3.Not(first.prop)]
+                ),
+            )
+        )
         return tuple(result)
 
 
@@ -119,12 +136,12 @@ def _script(header: str, check: str, assertions: list) -> str:
     solver = z3.Solver(ctx=context())
     solver.add(*assertions)
     body = solver.to_smt2().replace("; benchmark generated from python API\n", "")
-    return (f"; atcs proof certificate: {header}\n; check: {check}; expected: unsat\n"
-            f"(set-logic ALL)\n{body}")
+    return f"; atcs proof certificate: {header}\n; check: {check}; expected: unsat\n(set-logic ALL)\n{body}"
 
 
-def check_obligation(solver: str, obligation: Obligation, timeout_s: float,
-                     resource_limit: int | None = None) -> SolverCheck:
+def check_obligation(
+    solver: str, obligation: Obligation, timeout_s: float, resource_limit: int | None = None
+) -> SolverCheck:
     """Parse the obligation's script afresh and check it with ``solver`` (``z3`` or ``cvc5``) within
     ``timeout_s`` seconds and, for cvc5, within ``resource_limit`` resource units (its ``rlimit-per``: a limit
     that gives the same verdict on any machine; None for none)."""
@@ -132,10 +149,16 @@ def check_obligation(solver: str, obligation: Obligation, timeout_s: float,
         raise ValueError(f"solver must be one of {', '.join(SOLVERS)}, got {solver!r}")
     if not timeout_s > 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
-    if resource_limit is not None and (solver != "cvc5" or isinstance(resource_limit, bool)
-                                       or not isinstance(resource_limit, int) or resource_limit < 1):
-        raise ValueError(f"resource_limit must be a positive whole number of cvc5 resource units (cvc5 only), "
-                         f"got {resource_limit!r} for {solver}")
+    if resource_limit is not None and (
+        solver != "cvc5"
+        or isinstance(resource_limit, bool)
+        or not isinstance(resource_limit, int)
+        or resource_limit < 1
+    ):
+        raise ValueError(
+            f"resource_limit must be a positive whole number of cvc5 resource units (cvc5 only), "
+            f"got {resource_limit!r} for {solver}"
+        )
     start = time.monotonic()
     if solver == "z3":
         verdict, reason, units = (*_z3(obligation.script, timeout_s), None)

@@ -1,4 +1,4 @@
-"""The float run of a counterexample (issue 9): the trace's inputs stepped on the float backend, the simulator's
+"""The float run of a counterexample: the trace's inputs stepped on the float backend, the simulator's
 IEEE doubles, and compared step by step with the exact replay.
 
 Each exact value (parameters, the initial state, every step's inputs) is converted to its nearest double once;

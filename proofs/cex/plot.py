@@ -1,4 +1,4 @@
-"""A counterexample as a PNG plot, for any node (issue 9): speeds against time and distance, locations against
+"""A counterexample as a PNG plot, for any node: speeds against time and distance, locations against
 time, boolean commands as lanes, the violating step marked.
 
 What is drawn is read off the node's field names (DESIGN.md: names carry units), never configured per node:
@@ -55,8 +55,10 @@ def plot_fields(node: Node) -> PlotFields:
     scalars = {role: [n for n in reals[role] if n in node.sorts(role)] for role in ROLES}
     position = next(((role, "front_m") for role in ("state", "inputs") if "front_m" in scalars[role]), None)
     if position is None:
-        position = next(((role, n) for role in ("state", "inputs") for n in scalars[role]
-                         if "front" in n and n.endswith("_m")), None)
+        position = next(
+            ((role, n) for role in ("state", "inputs") for n in scalars[role] if "front" in n and n.endswith("_m")),
+            None,
+        )
     return PlotFields(
         speeds=[(role, n) for role in ROLES for n in reals[role] if n.split("[")[0].endswith("_mps")],
         locations=[(role, n) for role in ROLES for n in reals[role] if n.split("[")[0].endswith("_m")],
@@ -79,15 +81,33 @@ def plot_counterexample(node: Node, trace: Trace, replayed: Replay, path: str | 
     cycle = float(cycle_s(trace))
     k_bad = trace.violation_step
     t_bad = k_bad * cycle
-    panels = [p for p, wanted in (("speed", fields.speeds), ("distance", fields.speeds and fields.position),
-                                  ("locations", fields.locations), ("lanes", True)) if wanted]
+    panels = [
+        p
+        for p, wanted in (
+            ("speed", fields.speeds),
+            ("distance", fields.speeds and fields.position),
+            ("locations", fields.locations),
+            ("lanes", True),
+        )
+        if wanted
+    ]
     heights = {"speed": 3, "distance": 3, "locations": 3, "lanes": max(1.2, 0.32 * (len(fields.lanes) + 1))}
     height_in = sum(heights[p] for p in panels) + 0.6 * len(panels) + 0.8
     fig = Figure(figsize=(11, height_in))  # fixed margins: constrained layout would take half the drawing time
-    fig.subplots_adjust(left=0.17, right=0.98, top=1 - 0.75 / height_in, bottom=0.5 / height_in,
-                        hspace=0.6 * len(panels) / sum(heights[p] for p in panels))
-    axes = dict(zip(panels, fig.subplots(len(panels), 1, squeeze=False,
-                                         height_ratios=[heights[p] for p in panels])[:, 0], strict=True))
+    fig.subplots_adjust(
+        left=0.17,
+        right=0.98,
+        top=1 - 0.75 / height_in,
+        bottom=0.5 / height_in,
+        hspace=0.6 * len(panels) / sum(heights[p] for p in panels),
+    )
+    axes = dict(
+        zip(
+            panels,
+            fig.subplots(len(panels), 1, squeeze=False, height_ratios=[heights[p] for p in panels])[:, 0],
+            strict=True,
+        )
+    )
     fig.suptitle(f"{trace.property}: violated at step {k_bad} (t = {t_bad:g} s; one step = {cycle:g} s)")
 
     end_s = (len(trace.inputs) + 1) * cycle  # the state after the last step is held for one cycle
@@ -96,8 +116,10 @@ def plot_counterexample(node: Node, trace: Trace, replayed: Replay, path: str | 
         """Step k's value from k * cycle to the next step's time: the last one held for a cycle."""
         return [k * cycle for k in range(len(values) + 1)], [*values, values[-1]]
 
-    for panel, chosen, scale, unit in (("speed", fields.speeds, KMH, "speed (km/h)"),
-                                       ("locations", fields.locations, 1.0, "location (m)")):
+    for panel, chosen, scale, unit in (
+        ("speed", fields.speeds, KMH, "speed (km/h)"),
+        ("locations", fields.locations, 1.0, "location (m)"),
+    ):
         if panel not in axes:
             continue
         ax = axes[panel]
@@ -115,8 +137,13 @@ def plot_counterexample(node: Node, trace: Trace, replayed: Replay, path: str | 
         for field in fields.speeds:
             values = _series(trace, replayed, field)[:steps]
             ax.plot(position, [float(v) * KMH for v in values], marker=".", label=".".join(field))
-        ax.axvline(position[k_bad], color="red", linestyle="--", linewidth=1.5,
-                   label=f"violation at {'.'.join(fields.position)} = {position[k_bad]:g} m")
+        ax.axvline(
+            position[k_bad],
+            color="red",
+            linestyle="--",
+            linewidth=1.5,
+            label=f"violation at {'.'.join(fields.position)} = {position[k_bad]:g} m",
+        )
         ax.set(xlabel=f"distance: {'.'.join(fields.position)} (m)", ylabel="speed (km/h)")
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper left", fontsize="x-small", ncols=2)
@@ -125,11 +152,18 @@ def plot_counterexample(node: Node, trace: Trace, replayed: Replay, path: str | 
     for row, field in enumerate(lanes):
         t, values = held(replayed.holds if field == ("property", "holds") else _series(trace, replayed, field))
         y = len(lanes) - 1 - row
-        ax.fill_between(t, y, [y + 0.8 * bool(v) for v in values], step="post",
-                        color="#1f77b4" if field[0] != "property" else "#2ca02c", alpha=0.8)
+        ax.fill_between(
+            t,
+            y,
+            [y + 0.8 * bool(v) for v in values],
+            step="post",
+            color="#1f77b4" if field[0] != "property" else "#2ca02c",
+            alpha=0.8,
+        )
     ax.axvspan(t_bad, t_bad + cycle, color="red", alpha=0.15, label=f"violation (step {k_bad})")
-    ax.set_yticks([len(lanes) - 1 - r + 0.4 for r in range(len(lanes))], [".".join(f) for f in lanes],
-                  fontsize="x-small")
+    ax.set_yticks(
+        [len(lanes) - 1 - r + 0.4 for r in range(len(lanes))], [".".join(f) for f in lanes], fontsize="x-small"
+    )
     ax.set(xlabel="time (s)", ylim=(-0.2, len(lanes)), xlim=(0, end_s))
     ax.legend(loc="upper right", fontsize="x-small")
     buffer = io.BytesIO()

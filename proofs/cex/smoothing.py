@@ -1,4 +1,4 @@
-"""Counterexample smoothing (issue 9; JKind's ``--smooth``): of the runs that first violate the property at the
+"""Counterexample smoothing (JKind's ``--smooth``): of the runs that first violate the property at the
 step BMC found, one with the fewest input changes, so the trace reads as a few events instead of noise.
 
 A change is a pair (step j >= 1, input variable) whose value at step j differs from step j - 1; an array input
@@ -44,12 +44,17 @@ class Smoothing:
         return f"{text}: {self.message}" if self.message else text
 
     def as_json(self) -> dict:
-        return {"status": self.status, "original_input_changes": self.original_changes,
-                "input_changes": self.changes, "message": self.message}
+        return {
+            "status": self.status,
+            "original_input_changes": self.original_changes,
+            "input_changes": self.changes,
+            "message": self.message,
+        }
 
 
 def change_indicators(u: Unrolling, k: int) -> list[z3.BoolRef]:
     """One term per (step 1..k, input variable): true when the input differs from the step before."""
+
     def variables(j):
         return flatten(as_dict(u.frame(j).inputs))
 
@@ -65,8 +70,9 @@ def count_in(model: z3.ModelRef, indicators: list[z3.BoolRef]) -> int:
     return sum(z3.is_true(model.eval(i, model_completion=True)) for i in indicators)
 
 
-def smooth(u: Unrolling, solver: z3.Solver, k: int, model: z3.ModelRef, timeout_s: float
-           ) -> tuple[z3.ModelRef, Smoothing]:
+def smooth(
+    u: Unrolling, solver: z3.Solver, k: int, model: z3.ModelRef, timeout_s: float
+) -> tuple[z3.ModelRef, Smoothing]:
     """The run with the fewest input changes among those violating ``u``'s property first at step ``k``.
 
     ``solver`` holds the BMC constraints up to frame ``k`` (the violation at ``k`` not yet asserted) and
@@ -80,14 +86,21 @@ def smooth(u: Unrolling, solver: z3.Solver, k: int, model: z3.ModelRef, timeout_
     while changes > 0:
         left = end - time.monotonic()
         if left <= 0:
-            return best, Smoothing("not minimal", original, changes,
-                                   f"the time ran out looking for a run with at most {changes - 1} changes")
+            return best, Smoothing(
+                "not minimal",
+                original,
+                changes,
+                f"the time ran out looking for a run with at most {changes - 1} changes",
+            )
         check = solve(solver, z3.And(goal, z3.AtMost(*indicators, changes - 1)), left)
         if check.result == "unsat":
             break
         if check.result == "unknown":
-            return best, Smoothing("not minimal", original, changes,
-                                   f"the solver said {check.reason or 'unknown'} looking for a run with at most "
-                                   f"{changes - 1} changes")
+            return best, Smoothing(
+                "not minimal",
+                original,
+                changes,
+                f"the solver said {check.reason or 'unknown'} looking for a run with at most {changes - 1} changes",
+            )
         best, changes = check.model, count_in(check.model, indicators)
     return best, Smoothing("minimal", original, changes)

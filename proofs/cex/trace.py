@@ -197,8 +197,12 @@ def to_csv(trace: Trace, replayed: Replay) -> str:
     out = io.StringIO()
 
     def groups(k):
-        return (("param", trace.params), ("state", trace.states[k]), ("input", trace.inputs[k]),
-                ("output", replayed.outputs[k]))
+        return (
+            ("param", trace.params),
+            ("state", trace.states[k]),
+            ("input", trace.inputs[k]),
+            ("output", replayed.outputs[k]),
+        )
 
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(
@@ -222,15 +226,16 @@ def parse_value(path: str, where: str, raw: Any, sort: Sort, error: type[ValueEr
             raise error(f"{path}: {where} must be true or false, got {raw!r}")
         return raw
     if isinstance(raw, bool) or not isinstance(raw, (str, int)):
-        raise error(f"{path}: {where} must be an exact number as a string such as \"1/3\", got {raw!r}")
+        raise error(f'{path}: {where} must be an exact number as a string such as "1/3", got {raw!r}')
     try:
         return Fraction(raw)
     except (ValueError, ZeroDivisionError):
         raise error(f"{path}: {where} is not a number: {raw!r}") from None
 
 
-def parse_record(path: str, where: str, raw: Any, sorts: dict[str, Sort],
-                 error: type[ValueError] = TraceFileError) -> dict[str, Value]:
+def parse_record(
+    path: str, where: str, raw: Any, sorts: dict[str, Sort], error: type[ValueError] = TraceFileError
+) -> dict[str, Value]:
     """A record of fields of the given sorts read from a JSON object: every field present, none unknown."""
     if not isinstance(raw, dict):
         raise error(f"{path}: {where} must be an object, got {raw!r}")

@@ -26,9 +26,11 @@ from atcs.proofs.cex.trace import Replay, Trace
 SEED_CYCLE_S = Fraction(1, 10)
 """The ATP cycle of seed 001 (100 ms), for nodes without a ``cycle_s`` parameter."""
 
-_UNITS = [(Fraction(magnitude) * Fraction(10) ** exponent, f"{magnitude} {name}")
-          for exponent, name in ((0, "s"), (-3, "ms"), (-6, "us"), (-9, "ns"), (-12, "ps"), (-15, "fs"))
-          for magnitude in (100, 10, 1)]
+_UNITS = [
+    (Fraction(magnitude) * Fraction(10) ** exponent, f"{magnitude} {name}")
+    for exponent, name in ((0, "s"), (-3, "ms"), (-6, "us"), (-9, "ns"), (-12, "ps"), (-15, "fs"))
+    for magnitude in (100, 10, 1)
+]
 
 
 def cycle_s(trace: Trace) -> Fraction:
@@ -58,10 +60,12 @@ def to_vcd(trace: Trace, replayed: Replay, *, date: str = "") -> str:
     """The VCD text of a trace and its exact replay (outputs and verdicts come from the replay)."""
     cycle = cycle_s(trace)
     scale, ticks, exact_scale = timescale(cycle)
-    comment = (f"atcs counterexample: {trace.property}, node {trace.node}, violated at step {trace.violation_step}; "
-               f"one step per ATP cycle of {float(cycle):g} s"
-               + ("" if exact_scale else " (not a whole number of femtoseconds: one 100 ms unit per cycle)")
-               + "; numbers are the doubles nearest the exact values of the JSON trace")
+    comment = (
+        f"atcs counterexample: {trace.property}, node {trace.node}, violated at step {trace.violation_step}; "
+        f"one step per ATP cycle of {float(cycle):g} s"
+        + ("" if exact_scale else " (not a whole number of femtoseconds: one 100 ms unit per cycle)")
+        + "; numbers are the doubles nearest the exact values of the JSON trace"
+    )
     steps = len(trace.inputs)
     buffer = io.StringIO()
     with VCDWriter(buffer, timescale=scale, date=date or "unknown", comment=comment, version="atcs") as writer:
@@ -74,8 +78,11 @@ def to_vcd(trace: Trace, replayed: Replay, *, date: str = "") -> str:
 
         for name, value in flatten(trace.params).items():  # constant: the initial value is the whole story
             register((top, "params"), name, value)
-        rows = [("state", [flatten(s) for s in trace.states]), ("inputs", [flatten(i) for i in trace.inputs]),
-                ("outputs", [flatten(o) for o in replayed.outputs])]
+        rows = [
+            ("state", [flatten(s) for s in trace.states]),
+            ("inputs", [flatten(i) for i in trace.inputs]),
+            ("outputs", [flatten(o) for o in replayed.outputs]),
+        ]
         variables = {role: {n: register((top, role), n, v) for n, v in values[0].items()} for role, values in rows}
         holds = writer.register_var(top, "holds", "wire", size=1, init=replayed.holds[0])
         violation = writer.register_var(top, "violation", "wire", size=1, init=trace.violation_step == 0)

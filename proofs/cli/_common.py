@@ -70,8 +70,12 @@ def tolerance(text: str) -> float:
 
 
 def add_only(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--only", metavar="PATTERN", action="append",
-                        help="glob over property names, e.g. 'supervision.*'; repeatable (the properties any matches)")
+    parser.add_argument(
+        "--only",
+        metavar="PATTERN",
+        action="append",
+        help="glob over property names, e.g. 'supervision.*'; repeatable (the properties any matches)",
+    )
 
 
 def add_jobs(parser: argparse.ArgumentParser) -> None:

@@ -26,30 +26,61 @@ from atcs.proofs.cli._common import (
     selected_properties,
 )
 
-STYLE = {"certified": "green", "unconfirmed": "yellow", "disagreement": "bold red", "error": "bold magenta",
-         "not proved": "yellow"}
+STYLE = {
+    "certified": "green",
+    "unconfirmed": "yellow",
+    "disagreement": "bold red",
+    "error": "bold magenta",
+    "not proved": "yellow",
+}
 
 
 def add_parser(subparsers) -> None:
-    f = subparsers.add_parser("certify", help="write each proved property's certificate (SMT-LIB 2) and check it "
-                              "with z3 and cvc5")
+    f = subparsers.add_parser(
+        "certify", help="write each proved property's certificate (SMT-LIB 2) and check it with z3 and cvc5"
+    )
     add_only(f)
-    f.add_argument("--report", metavar="FILE", help="take the proofs' depths from this atcs prove --json report "
-                   "(default: prove first)")
-    f.add_argument("--dir", metavar="DIR", default="certificates",
-                   help="where the scripts and certificates.json are written (default ./certificates)")
-    f.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=600.0,
-                   help="per-property limit of the proving, and per-check limit of each solver that has no "
-                   "limit of its own (default 600)")
+    f.add_argument(
+        "--report",
+        metavar="FILE",
+        help="take the proofs' depths from this atcs prove --json report (default: prove first)",
+    )
+    f.add_argument(
+        "--dir",
+        metavar="DIR",
+        default="certificates",
+        help="where the scripts and certificates.json are written (default ./certificates)",
+    )
+    f.add_argument(
+        "--timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=600.0,
+        help="per-property limit of the proving, and per-check limit of each solver that has no "
+        "limit of its own (default 600)",
+    )
     for solver in ("z3", "cvc5"):
-        f.add_argument(f"--{solver}-timeout", metavar="SECONDS", type=positive_float, default=None,
-                       help=f"per-check time limit of {solver}; past it the check is unknown (default --timeout)")
-    f.add_argument("--cvc5-rlimit", metavar="UNITS", type=positive_int, default=None,
-                   help="also bound each cvc5 check by this many of its resource units (rlimit-per): the same "
-                   "verdict on any machine; past it the check is unknown (default: no bound)")
-    f.add_argument("--z3-only", metavar="PATTERN[,PATTERN...]", default=None,
-                   help="globs over property names: check these with z3 alone (cvc5 is not asked; they stay "
-                   "unconfirmed)")
+        f.add_argument(
+            f"--{solver}-timeout",
+            metavar="SECONDS",
+            type=positive_float,
+            default=None,
+            help=f"per-check time limit of {solver}; past it the check is unknown (default --timeout)",
+        )
+    f.add_argument(
+        "--cvc5-rlimit",
+        metavar="UNITS",
+        type=positive_int,
+        default=None,
+        help="also bound each cvc5 check by this many of its resource units (rlimit-per): the same "
+        "verdict on any machine; past it the check is unknown (default: no bound)",
+    )
+    f.add_argument(
+        "--z3-only",
+        metavar="PATTERN[,PATTERN...]",
+        default=None,
+        help="globs over property names: check these with z3 alone (cvc5 is not asked; they stay unconfirmed)",
+    )
     add_jobs(f)
     f.set_defaults(run=run)
 
@@ -73,8 +104,9 @@ def run(args, out, err) -> int:
     results = {}
     limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
     with progress_bar(err, "certifying", sum(p.name in depths for p in wanted)) as bar:
-        for c in campaign.run(wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit,
-                              z3_only=z3_only):
+        for c in campaign.run(
+            wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit, z3_only=z3_only
+        ):
             results[c.name] = c
             bar.done(f"certifying {c.name}")
     campaign.settle(results, depths)
@@ -86,22 +118,43 @@ def run(args, out, err) -> int:
     for prop in props:
         c = results.get(prop.name)
         if c is None:
-            records.append({"name": prop.name, "requirement": prop.requirement, "k": None, "lemmas": list(prop.lemmas),
-                            "status": campaign.CertificateStatus.NOT_PROVED, "confirmed_by": [],
-                            "message": "no proof to certify", "checks": []})
+            records.append(
+                {
+                    "name": prop.name,
+                    "requirement": prop.requirement,
+                    "k": None,
+                    "lemmas": list(prop.lemmas),
+                    "status": campaign.CertificateStatus.NOT_PROVED,
+                    "confirmed_by": [],
+                    "message": "no proof to certify",
+                    "checks": [],
+                }
+            )
             continue
         (directory / prop.name).mkdir(parents=True, exist_ok=True)
         for ob in c.obligations:
             write_atomic(directory / prop.name / f"{ob.check}.smt2", ob.script)
         records.append(campaign.record(c, directory))
     counts = {s: sum(r["status"] == s for r in records) for s in STYLE}
-    write_atomic(directory / "certificates.json", json.dumps(
-        {"tool": "atcs certify", "solvers": list(campaign.SOLVERS), "solver_versions": campaign.solver_versions(),
-         "timeout_s": args.timeout, "solver_timeout_s": limits,
-         "cvc5_resource_limit": args.cvc5_rlimit,
-         "z3_only": sorted(z3_only & {p.name for p in wanted}), "wall_s": round(wall, 3), "summary": counts,
-         "properties": records},
-        indent=2) + "\n")
+    write_atomic(
+        directory / "certificates.json",
+        json.dumps(
+            {
+                "tool": "atcs certify",
+                "solvers": list(campaign.SOLVERS),
+                "solver_versions": campaign.solver_versions(),
+                "timeout_s": args.timeout,
+                "solver_timeout_s": limits,
+                "cvc5_resource_limit": args.cvc5_rlimit,
+                "z3_only": sorted(z3_only & {p.name for p in wanted}),
+                "wall_s": round(wall, 3),
+                "summary": counts,
+                "properties": records,
+            },
+            indent=2,
+        )
+        + "\n",
+    )
     _print(out, records, wall, directory)
     return exit_code(against=counts["disagreement"] > 0, incomplete=counts["certified"] != len(records))
 
@@ -124,8 +177,14 @@ def _print(out, records: list[dict], wall_s: float, directory: Path) -> None:
     for heading in ("property", "requirement", "k", "checks", "confirmed by", "status"):
         table.add_column(heading, justify="right" if heading == "k" else "left")
     for r in records:
-        table.add_row(r["name"], r["requirement"], "" if r["k"] is None else str(r["k"]), str(len(r["checks"])),
-                      ", ".join(r["confirmed_by"]) or "none", f"[{STYLE[r['status']]}]{r['status']}[/]")
+        table.add_row(
+            r["name"],
+            r["requirement"],
+            "" if r["k"] is None else str(r["k"]),
+            str(len(r["checks"])),
+            ", ".join(r["confirmed_by"]) or "none",
+            f"[{STYLE[r['status']]}]{r['status']}[/]",
+        )
     out.print(table)
     for r in records:
         if r["status"] != "certified":

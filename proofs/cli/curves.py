@@ -16,21 +16,42 @@ from atcs.proofs.cli._common import EXIT_OK, UsageError, reraised
 
 def add_parser(subparsers) -> None:
     c = subparsers.add_parser("curves", help="draw the braking curves of a train, track and MA (PNG and SVG)")
-    c.add_argument("--train", choices=("seed000", "seed002"), default="seed000",
-                   help="train and national data of a seed (default seed000)")
-    c.add_argument("--mrsp", metavar="M:KMH,...", default="0:80,600:60,900:70,1200:40",
-                   help="MRSP as start:limit pairs, metres and km/h (default %(default)s)")
-    c.add_argument("--gradient", metavar="M:PERMILLE,...", default="0:0,500:-10,1100:5",
-                   help="compensated gradient as start:per-mille pairs, uphill positive (default %(default)s)")
+    c.add_argument(
+        "--train",
+        choices=("seed000", "seed002"),
+        default="seed000",  # train_data.PRESETS
+        help="train and national data of a seed (default seed000)",
+    )
+    c.add_argument(
+        "--mrsp",
+        metavar="M:KMH,...",
+        default="0:80,600:60,900:70,1200:40",
+        help="MRSP as start:limit pairs, metres and km/h (default %(default)s)",
+    )
+    c.add_argument(
+        "--gradient",
+        metavar="M:PERMILLE,...",
+        default="0:0,500:-10,1100:5",
+        help="compensated gradient as start:per-mille pairs, uphill positive (default %(default)s)",
+    )
     c.add_argument("--eoa", metavar="M", default="1500", help="end of authority (m, default %(default)s)")
     c.add_argument("--eoa-speed", metavar="KMH", default="0", help="target speed at the EoA (km/h, default 0)")
     c.add_argument("--front", metavar="M", default="0", help="the max safe front: curves from here (m, default 0)")
-    c.add_argument("--a-est", metavar="MPS2", default=None,
-                   help="estimated acceleration for the EBI (m/s^2, default the train's maximum)")
-    c.add_argument("--speed", metavar="KMH", default=None,
-                   help="also print where each target's curves reach this speed (the ERA tool's query)")
-    c.add_argument("--out", metavar="DIR", default="curves",
-                   help="where curves.png and curves.svg go (default ./curves)")
+    c.add_argument(
+        "--a-est",
+        metavar="MPS2",
+        default=None,
+        help="estimated acceleration for the EBI (m/s^2, default the train's maximum)",
+    )
+    c.add_argument(
+        "--speed",
+        metavar="KMH",
+        default=None,
+        help="also print where each target's curves reach this speed (the ERA tool's query)",
+    )
+    c.add_argument(
+        "--out", metavar="DIR", default="curves", help="where curves.png and curves.svg go (default ./curves)"
+    )
     c.set_defaults(run=run)
 
 
@@ -52,27 +73,26 @@ def run(args, out, err) -> int:
     from atcs.model.restrictions import as_float
     from atcs.sim.plots import planning_area, sampled_curves
 
-    train, national = {
-        "seed000": (train_data.seed000_train, train_data.subset026_national),
-        "seed002": (train_data.seed002_train, train_data.seed002_national),
-    }[args.train]
-    train, national = train(), national()
+    train, national = (make() for make in train_data.PRESETS[args.train])
     q = _query(args, train)
     with reraised("curves: ", train_data.TrainDataError):
         train_data.validate(train, national)
         check_braking_capability(train, national, q["gradient"])
 
     horizon = Horizon(q["mrsp"], q["gradient"], q["eoa_m"], q["eoa_speed"])
-    sampled = sampled_curves(train, national, Horizon(as_float(q["mrsp"]), as_float(q["gradient"]),
-                                                      float(q["eoa_m"]), float(q["eoa_speed"])),
-                             float(q["front_m"]), float(q["a_est"]))
+    sampled = sampled_curves(
+        train,
+        national,
+        Horizon(as_float(q["mrsp"]), as_float(q["gradient"]), float(q["eoa_m"]), float(q["eoa_speed"])),
+        float(q["front_m"]),
+        float(q["a_est"]),
+    )
     directory = Path(args.out)
     try:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise UsageError(f"curves: --out {args.out!r}: {exc.strerror}") from None
-    title = (f"{args.train}: braking curves to the EoA at {float(q['eoa_m']):g} m "
-             f"(A_est {float(q['a_est']):.2f} m/s²)")
+    title = f"{args.train}: braking curves to the EoA at {float(q['eoa_m']):g} m (A_est {float(q['a_est']):.2f} m/s²)"
     paths = planning_area(sampled, float(q["eoa_m"]), title, [directory / "curves.png", directory / "curves.svg"])
     out.print("wrote " + ", ".join(str(p) for p in paths))
     if q["speed"] is not None:
@@ -85,12 +105,15 @@ def _query(args, train) -> dict:
     from atcs.model.profile import KMH_PER_MPS, ProfileError, gradient_profile, parse_number, speed_profile
 
     with reraised("curves: ", ProfileError):
-        q = {"eoa_m": parse_number("--eoa", "metres", args.eoa),
-             "eoa_speed": parse_number("--eoa-speed", "km/h", args.eoa_speed) / KMH_PER_MPS,
-             "front_m": parse_number("--front", "metres", args.front),
-             "a_est": train.max_acceleration_mps2 if args.a_est is None else parse_number("--a-est", "m/s^2",
-                                                                                           args.a_est),
-             "speed": None if args.speed is None else parse_number("--speed", "km/h", args.speed) / KMH_PER_MPS}
+        q = {
+            "eoa_m": parse_number("--eoa", "metres", args.eoa),
+            "eoa_speed": parse_number("--eoa-speed", "km/h", args.eoa_speed) / KMH_PER_MPS,
+            "front_m": parse_number("--front", "metres", args.front),
+            "a_est": train.max_acceleration_mps2
+            if args.a_est is None
+            else parse_number("--a-est", "m/s^2", args.a_est),
+            "speed": None if args.speed is None else parse_number("--speed", "km/h", args.speed) / KMH_PER_MPS,
+        }
         mrsp_starts, limits = _pairs("--mrsp", args.mrsp)
         gradient_starts, gradients = _pairs("--gradient", args.gradient)
         starts = [parse_number("--mrsp", "start", s) for s in mrsp_starts]
@@ -98,15 +121,19 @@ def _query(args, train) -> dict:
         q["mrsp"] = speed_profile("--mrsp", mrsp_starts, limits, end_m)
         q["gradient"] = gradient_profile("--gradient", gradient_starts, gradients, end_m)
     speed = q["speed"]
-    for option, value, ok in (("--eoa", q["eoa_m"], q["eoa_m"] > 0),
-                              ("--eoa-speed", q["eoa_speed"], q["eoa_speed"] >= 0),
-                              ("--front", q["front_m"], 0 <= q["front_m"] < q["eoa_m"]),
-                              ("--a-est", q["a_est"], q["a_est"] >= 0),
-                              ("--speed", speed, speed is None or speed > 0)):
+    for option, value, ok in (
+        ("--eoa", q["eoa_m"], q["eoa_m"] > 0),
+        ("--eoa-speed", q["eoa_speed"], q["eoa_speed"] >= 0),
+        ("--front", q["front_m"], 0 <= q["front_m"] < q["eoa_m"]),
+        ("--a-est", q["a_est"], q["a_est"] >= 0),
+        ("--speed", speed, speed is None or speed > 0),
+    ):
         if not ok:
             shown = float(value * KMH_PER_MPS) if option in ("--eoa-speed", "--speed") else float(value)
-            raise UsageError(f"curves: {option} = {shown:g} is out of range"
-                             + (" (the front must lie before the EoA, from 0)" if option == "--front" else ""))
+            raise UsageError(
+                f"curves: {option} = {shown:g} is out of range"
+                + (" (the front must lie before the EoA, from 0)" if option == "--front" else "")
+            )
     return q
 
 
@@ -123,6 +150,8 @@ def _print_locations(out, train, national, horizon, q: dict) -> None:
     for target in supervised_targets(EXACT, national, horizon, q["front_m"]):
         at = curve_locations(EXACT, train, national, q["gradient"], target, q["speed"], q["a_est"])
         cells = [getattr(at, f"{name}_m") for name in CURVE_NAMES]
-        table.add_row(f"{float(target.location_m):g} @ {float(target.speed_mps * KMH_PER_MPS):g}",
-                      *("-" if c > Fraction(10**6) else f"{float(c):.2f}" for c in cells))
+        table.add_row(
+            f"{float(target.location_m):g} @ {float(target.speed_mps * KMH_PER_MPS):g}",
+            *("-" if c > Fraction(10**6) else f"{float(c):.2f}" for c in cells),
+        )
     out.print(table)

@@ -25,25 +25,43 @@ from atcs.proofs.cli._common import (
     reraised,
 )
 
-STYLE = {"killed": "green", "survived": "bold red", "timeout": "yellow", "incompetent": "magenta",
-         "equivalent": "cyan"}
+STYLE = {"killed": "green", "survived": "bold red", "timeout": "yellow", "incompetent": "magenta", "equivalent": "cyan"}
 
 
 def add_parser(subparsers) -> None:
-    u = subparsers.add_parser("mutate", help="mutate the model's step functions systematically and prove the "
-                              "properties about each mutant; kill rate per module, survivors with their diff")
-    u.add_argument("--only", metavar="PATTERN", action="append",
-                   help="glob over mutant ids (module.function:+line:operator:...), e.g. 'doors.*'; repeatable")
-    u.add_argument("--nodes", metavar="PATTERN", action="append",
-                   help="prove only the properties of the nodes matching this glob, e.g. 'door*'; repeatable "
-                   "(default every node whose proofs run the mutated function)")
-    u.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=120.0,
-                   help="per-mutant time limit over all its properties; past it the verdict is timeout "
-                   "(default 120)")
+    u = subparsers.add_parser(
+        "mutate",
+        help="mutate the model's step functions systematically and prove the "
+        "properties about each mutant; kill rate per module, survivors with their diff",
+    )
+    u.add_argument(
+        "--only",
+        metavar="PATTERN",
+        action="append",
+        help="glob over mutant ids (module.function:+line:operator:...), e.g. 'doors.*'; repeatable",
+    )
+    u.add_argument(
+        "--nodes",
+        metavar="PATTERN",
+        action="append",
+        help="prove only the properties of the nodes matching this glob, e.g. 'door*'; repeatable "
+        "(default every node whose proofs run the mutated function)",
+    )
+    u.add_argument(
+        "--timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=120.0,
+        help="per-mutant time limit over all its properties; past it the verdict is timeout (default 120)",
+    )
     add_jobs(u)
     u.add_argument("--json", metavar="FILE", help="write the JSON report here")
-    u.add_argument("--equivalents", metavar="FILE", default=None,
-                   help="registry of equivalent mutants (default proofs/mutation/equivalent_mutants.toml)")
+    u.add_argument(
+        "--equivalents",
+        metavar="FILE",
+        default=None,
+        help="registry of equivalent mutants (default proofs/mutation/equivalent_mutants.toml)",
+    )
     u.add_argument("--list", action="store_true", help="list the selected mutants and exit")
     u.set_defaults(run=run)
 
@@ -65,17 +83,27 @@ def run(args, out, err) -> int:
 
     start = time.monotonic()
     with progress_bar(err, "mutating", len(selected)) as bar:
-        outcomes = campaign.run(selected, timeout_s=args.timeout, jobs=args.jobs, equivalent=equivalent,
-                                nodes=nodes, on_done=lambda o: bar.done(f"{o.mutant.id}: {o.verdict}",
-                                                                        f"{o.verdict} {o.mutant.id} "
-                                                                        f"({o.seconds:.1f} s)"))
+        outcomes = campaign.run(
+            selected,
+            timeout_s=args.timeout,
+            jobs=args.jobs,
+            equivalent=equivalent,
+            nodes=nodes,
+            on_done=lambda o: bar.done(f"{o.mutant.id}: {o.verdict}", f"{o.verdict} {o.mutant.id} ({o.seconds:.1f} s)"),
+        )
     wall = time.monotonic() - start
     rates = campaign.kill_rates(outcomes)
     _print(out, outcomes, rates, wall)
     if args.json:
-        doc = {"tool": "atcs mutate", "timeout_s": args.timeout, "nodes": list(nodes) if nodes else None,
-               "only": args.only, "wall_seconds": round(wall, 3), "kill_rates": rates,
-               "mutants": [o.record() for o in outcomes]}
+        doc = {
+            "tool": "atcs mutate",
+            "timeout_s": args.timeout,
+            "nodes": list(nodes) if nodes else None,
+            "only": args.only,
+            "wall_seconds": round(wall, 3),
+            "kill_rates": rates,
+            "mutants": [o.record() for o in outcomes],
+        }
         write_atomic(args.json, json.dumps(doc, indent=2) + "\n")
     verdicts = {o.verdict for o in outcomes}
     if "survived" in verdicts:
@@ -115,7 +143,8 @@ def _print(out, outcomes, rates, wall_s: float) -> None:
     out.print(table)
     for o in outcomes:
         if o.verdict in ("survived", "timeout", "incompetent"):
-            out.print(f"[{STYLE[o.verdict]}]{o.verdict}[/] {o.mutant.id} (line {o.mutant.line}): {o.message}",
-                      highlight=False)
+            out.print(
+                f"[{STYLE[o.verdict]}]{o.verdict}[/] {o.mutant.id} (line {o.mutant.line}): {o.message}", highlight=False
+            )
             if o.verdict == "survived":
                 out.print(o.mutant.diff, markup=False, highlight=False)

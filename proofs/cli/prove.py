@@ -28,17 +28,33 @@ def add_parser(subparsers) -> None:
     add_only(p)
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
-    p.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=600.0,
-                   help="per-property time limit, lemmas included; past it the verdict is unknown (default 600)")
+    p.add_argument(
+        "--timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=600.0,
+        help="per-property time limit, lemmas included; past it the verdict is unknown (default 600)",
+    )
     add_jobs(p)
-    p.add_argument("--cex-dir", metavar="DIR", default="counterexamples",
-                   help="where counterexamples are written as JSON, CSV, VCD and PNG (default ./counterexamples)")
-    p.add_argument("--witness-dir", metavar="DIR", default=None,
-                   help="also write each proved property's witness runs (its assumptions and every implication's "
-                   "condition reached) here as JSON")
-    p.add_argument("--smooth", action="store_true",
-                   help="make each counterexample one with the fewest input changes (same length; the time left "
-                   "within --timeout; the count before and after is in the reports)")
+    p.add_argument(
+        "--cex-dir",
+        metavar="DIR",
+        default="counterexamples",
+        help="where counterexamples are written as JSON, CSV, VCD and PNG (default ./counterexamples)",
+    )
+    p.add_argument(
+        "--witness-dir",
+        metavar="DIR",
+        default=None,
+        help="also write each proved property's witness runs (its assumptions and every implication's "
+        "condition reached) here as JSON",
+    )
+    p.add_argument(
+        "--smooth",
+        action="store_true",
+        help="make each counterexample one with the fewest input changes (same length; the time left "
+        "within --timeout; the count before and after is in the reports)",
+    )
     p.set_defaults(run=run)
 
 
@@ -48,8 +64,10 @@ def run(args, out, err) -> int:
     from atcs.proofs.files import write_atomic
 
     props = selected_properties("prove", args.only)
-    check_outputs(files={"--json": args.json, "--junit": args.junit},
-                  dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir})
+    check_outputs(
+        files={"--json": args.json, "--junit": args.junit},
+        dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir},
+    )
     start = time.monotonic()
     results = {}
     with progress_bar(err, "proving", len(props)) as bar:
@@ -81,10 +99,18 @@ def _print(out, records: list[dict], wall_s: float) -> None:
     for heading in ("property", "requirement", "status", "engine", "k", "seconds"):
         table.add_column(heading, justify="right" if heading in ("k", "seconds") else "left")
     for r in records:
-        table.add_row(r["name"], r["requirement"], f"[{STYLE[r['status']]}]{r['status']}[/]", r["engine"] or "",
-                      "" if r["k"] is None else str(r["k"]), f"{r['seconds']:.3f}")
+        table.add_row(
+            r["name"],
+            r["requirement"],
+            f"[{STYLE[r['status']]}]{r['status']}[/]",
+            r["engine"] or "",
+            "" if r["k"] is None else str(r["k"]),
+            f"{r['seconds']:.3f}",
+        )
     out.print(table)
     for r in records:
         if r["status"] != "proved":
-            out.print(f"[{STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}"
-                      + (f" (counterexample: {r['counterexample']})" if r["counterexample"] else ""))
+            out.print(
+                f"[{STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}"
+                + (f" (counterexample: {r['counterexample']})" if r["counterexample"] else "")
+            )

@@ -49,8 +49,9 @@ def _print_exact(out, prop, trace, result, file_name: str) -> None:
     table = Table(title=f"replay of {file_name} (exact arithmetic; one column per step)")
     table.add_column("variable")
     for k in steps:
-        table.add_column(f"{k} VIOLATED" if k == first else str(k), justify="right",
-                         style="bold red" if k == first else None)
+        table.add_column(
+            f"{k} VIOLATED" if k == first else str(k), justify="right", style="bold red" if k == first else None
+        )
     for prefix, values in (("state", result.states), ("input", trace.inputs), ("output", result.outputs)):
         for n in flatten(values[0]):
             table.add_row(f"{prefix}.{n}", *(str(format_value(flatten(values[k])[n])) for k in steps))
@@ -59,11 +60,15 @@ def _print_exact(out, prop, trace, result, file_name: str) -> None:
     for problem in result.problems:
         out.print(f"[yellow]not a run of the current model:[/] {problem}")
     if first is None:
-        out.print(f"[yellow]the property holds at every step on the current model[/] "
-                  f"(the trace recorded a violation at step {trace.violation_step})")
+        out.print(
+            f"[yellow]the property holds at every step on the current model[/] "
+            f"(the trace recorded a violation at step {trace.violation_step})"
+        )
     else:
-        out.print(f"[bold red]violated at step {first}[/]"
-                  + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})"))
+        out.print(
+            f"[bold red]violated at step {first}[/]"
+            + ("" if first == trace.violation_step else f" (the trace recorded step {trace.violation_step})")
+        )
 
 
 def _print_floats(out, floats) -> None:
@@ -83,5 +88,7 @@ def _print_floats(out, floats) -> None:
     if floats.error is not None:
         out.print(f"[bold red]the float run fails at {floats.error}[/]")
     if not floats.diverged:
-        out.print(f"the float run agrees with the exact run on every boolean over {floats.steps} steps"
-                  + ("" if floats.largest else ", and on every number"))
+        out.print(
+            f"the float run agrees with the exact run on every boolean over {floats.steps} steps"
+            + ("" if floats.largest else ", and on every number")
+        )

@@ -20,10 +20,15 @@ the current directory."""
 def add_parser(subparsers) -> None:
     m = subparsers.add_parser("sim", help="run a scenario in closed loop, checking the properties every cycle")
     m.add_argument("scenario", metavar="SCENARIO", help="a scenario file, or the name of a shipped one (sim/scenarios)")
-    m.add_argument("--trace", metavar="FILE", help="write every cycle of every train here (.csv or .jsonl); "
-                   "without it a failed run writes its last 60 s to SCENARIO_violation.csv")
-    m.add_argument("--plot", metavar="DIR", help="write a speed-distance plot per train and a time-distance "
-                   "diagram here (PNG)")
+    m.add_argument(
+        "--trace",
+        metavar="FILE",
+        help="write every cycle of every train here (.csv or .jsonl); "
+        "without it a failed run writes its last 60 s to SCENARIO_violation.csv",
+    )
+    m.add_argument(
+        "--plot", metavar="DIR", help="write a speed-distance plot per train and a time-distance diagram here (PNG)"
+    )
     m.set_defaults(run=run)
 
 
@@ -31,7 +36,9 @@ def run(args, out, err) -> int:
     from atcs.proofs.files import write_atomic
     from atcs.sim.monitor import PropertyViolation
     from atcs.sim.scenario import ScenarioError, load_scenario, resolve
-    from atcs.sim.simulator import SafetyViolation, Simulation, trace_text
+    from atcs.sim.simulator import Simulation
+    from atcs.sim.trace_files import trace_text
+    from atcs.sim.train_run import SafetyViolation
 
     with reraised("sim: ", ScenarioError):
         scenario = load_scenario(resolve(args.scenario))
@@ -82,12 +89,29 @@ def run(args, out, err) -> int:
 
 def _print(out, sim) -> None:
     table = Table(title=f"{sim.scenario.name}: {sim.time_s:.1f} s simulated")
-    for column in ("train", "distance (m)", "running (s)", "max speed (km/h)", "EB", "SB", "stops",
-                   "min gap (m)", "front at end (m)"):
+    for column in (
+        "train",
+        "distance (m)",
+        "running (s)",
+        "max speed (km/h)",
+        "EB",
+        "SB",
+        "stops",
+        "min gap (m)",
+        "front at end (m)",
+    ):
         table.add_column(column, justify="left" if column == "train" else "right")
     for t in sim.trains:
         s = t.stats
-        table.add_row(t.spec.name, f"{s.distance_m:.1f}", f"{s.running_s:.1f}", f"{s.max_speed_kmh:.1f}",
-                      str(s.emergency_brakes), str(s.service_brakes), str(s.station_stops),
-                      "-" if s.min_gap_m == float("inf") else f"{s.min_gap_m:.1f}", f"{t.front_m:.1f}")
+        table.add_row(
+            t.spec.name,
+            f"{s.distance_m:.1f}",
+            f"{s.running_s:.1f}",
+            f"{s.max_speed_kmh:.1f}",
+            str(s.emergency_brakes),
+            str(s.service_brakes),
+            str(s.station_stops),
+            "-" if s.min_gap_m == float("inf") else f"{s.min_gap_m:.1f}",
+            f"{t.front_m:.1f}",
+        )
     out.print(table)

@@ -28,17 +28,32 @@ from atcs.proofs.cli._common import (
 
 
 def add_parser(subparsers) -> None:
-    v = subparsers.add_parser("vectors", help="certified test vectors of each step function: generate, verify, "
-                              "check an implementation")
+    v = subparsers.add_parser(
+        "vectors", help="certified test vectors of each step function: generate, verify, check an implementation"
+    )
     vsub = v.add_subparsers(dest="vectors_command", required=True, parser_class=Parser)
     g = vsub.add_parser("generate", help="find vectors covering requirements, boundaries and MC/DC with z3")
-    g.add_argument("--function", metavar="NAME", action="append",
-                   help="a function (node) of the model; repeat for several (default: every one)")
+    g.add_argument(
+        "--function",
+        metavar="NAME",
+        action="append",
+        help="a function (node) of the model; repeat for several (default: every one)",
+    )
     g.add_argument("--out", metavar="DIR", default="vectors", help="where the files go (default ./vectors)")
-    g.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=10.0,
-                   help="per solver query; past it the goal is unknown (default 10)")
-    g.add_argument("--budget", metavar="SECONDS", type=positive_float, default=1800.0,
-                   help="per function; goals past it are unknown (default 1800)")
+    g.add_argument(
+        "--timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=10.0,
+        help="per solver query; past it the goal is unknown (default 10)",
+    )
+    g.add_argument(
+        "--budget",
+        metavar="SECONDS",
+        type=positive_float,
+        default=1800.0,
+        help="per function; goals past it are unknown (default 1800)",
+    )
     add_jobs(g)
     g.set_defaults(run=generate)
     y = vsub.add_parser("verify", help="re-check vector files against the model (hashes, symbolic and exact)")
@@ -46,15 +61,34 @@ def add_parser(subparsers) -> None:
     y.set_defaults(run=verify)
     k = vsub.add_parser("check", help="run an external implementation over the vectors (JSON lines)")
     k.add_argument("dir", metavar="DIR")
-    k.add_argument("--impl", metavar="COMMAND", required=True,
-                   help="the implementation's command line: one JSON request per line in, one answer per line out")
+    k.add_argument(
+        "--impl",
+        metavar="COMMAND",
+        required=True,
+        help="the implementation's command line: one JSON request per line in, one answer per line out",
+    )
     k.add_argument("--function", metavar="NAME", action="append", help="only this function's file (repeatable)")
-    k.add_argument("--rel-tol", metavar="X", type=tolerance, default=1e-9,
-                   help="relative tolerance for numbers answered as JSON numbers (default 1e-9)")
-    k.add_argument("--abs-tol", metavar="X", type=tolerance, default=1e-9,
-                   help="absolute tolerance for numbers answered as JSON numbers (default 1e-9)")
-    k.add_argument("--timeout", metavar="SECONDS", type=positive_float, default=10.0,
-                   help="how long to wait for each answer (default 10)")
+    k.add_argument(
+        "--rel-tol",
+        metavar="X",
+        type=tolerance,
+        default=1e-9,
+        help="relative tolerance for numbers answered as JSON numbers (default 1e-9)",
+    )
+    k.add_argument(
+        "--abs-tol",
+        metavar="X",
+        type=tolerance,
+        default=1e-9,
+        help="absolute tolerance for numbers answered as JSON numbers (default 1e-9)",
+    )
+    k.add_argument(
+        "--timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=10.0,
+        help="how long to wait for each answer (default 10)",
+    )
     k.set_defaults(run=check)
 
 
@@ -63,8 +97,9 @@ def _functions(command: str, names: list[str] | None) -> list[str]:
 
     for name in names or ():
         if name not in NODES:
-            raise UsageError(f"vectors {command}: --function {name!r} is not a function of the model "
-                             f"(functions: {', '.join(NODES)})")
+            raise UsageError(
+                f"vectors {command}: --function {name!r} is not a function of the model (functions: {', '.join(NODES)})"
+            )
     return list(dict.fromkeys(names)) if names else list(NODES)
 
 
@@ -76,8 +111,9 @@ def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float):
     from atcs.properties import PROPERTIES
 
     node = NODES[name]
-    fv = generate_vectors(node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s,
-                          budget_s=budget_s)
+    fv = generate_vectors(
+        node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s, budget_s=budget_s
+    )
     files.write(out_dir, fv)
     return name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds
 
@@ -94,19 +130,28 @@ def generate(args, out, err) -> int:
     else:
         with ProcessPoolExecutor(args.jobs) as pool:
             rows = list(pool.map(_generate_one, *zip(*jobs, strict=True)))
-    table = Table(title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s "
-                  f"({args.out})")
+    table = Table(
+        title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s ({args.out})"
+    )
     for heading in ("function", "vectors", "requirements", "boundaries", "MC/DC", "not covered", "seconds"):
         table.add_column(heading, justify="left" if heading == "function" else "right")
     incomplete = False
     for name, count, cov, reqs, covered, seconds in rows:
+
         def part(kind, cov=cov):
             return f"{cov[kind]['covered']}/{cov[kind]['goals']}"
 
         left = {s: sum(cov[k][s] for k in cov) for s in ("infeasible", "unknown")}
         incomplete = incomplete or left["unknown"] > 0
-        table.add_row(name, str(count), f"{len(covered)}/{len(reqs)} ids, {part('requirement')}", part("boundary"),
-                      part("mcdc"), f"{left['infeasible']} infeasible, {left['unknown']} unknown", f"{seconds:.1f}")
+        table.add_row(
+            name,
+            str(count),
+            f"{len(covered)}/{len(reqs)} ids, {part('requirement')}",
+            part("boundary"),
+            part("mcdc"),
+            f"{left['infeasible']} infeasible, {left['unknown']} unknown",
+            f"{seconds:.1f}",
+        )
     out.print(table)
     return EXIT_UNKNOWN if incomplete else EXIT_OK
 
@@ -138,8 +183,12 @@ def verify(args, out, err) -> int:
     for heading in ("file", "function", "vectors", "verdict"):
         table.add_column(heading)
     for r in results:
-        table.add_row(r.path.name, r.function, str(r.vectors),
-                      "[green]verified[/]" if r.ok else f"[bold red]{len(r.problems)} problem(s)[/]")
+        table.add_row(
+            r.path.name,
+            r.function,
+            str(r.vectors),
+            "[green]verified[/]" if r.ok else f"[bold red]{len(r.problems)} problem(s)[/]",
+        )
     out.print(table)
     for r in results:
         for problem in r.problems:
@@ -154,8 +203,9 @@ def check(args, out, err) -> int:
     files = _vector_files("check", args.dir, args.function)
     try:
         with reraised("vectors check: ", ImplementationStartError):
-            outcomes = check_implementation(files, args.impl, rel_tol=args.rel_tol, abs_tol=args.abs_tol,
-                                            timeout_s=args.timeout)
+            outcomes = check_implementation(
+                files, args.impl, rel_tol=args.rel_tol, abs_tol=args.abs_tol, timeout_s=args.timeout
+            )
     except ImplementationError as exc:
         print(f"atcs: vectors check: {exc}", file=sys.stderr)
         return EXIT_FALSIFIED
@@ -165,8 +215,9 @@ def check(args, out, err) -> int:
         table.add_column(heading, justify="left" if heading == "function" else "right")
     for vf in files:
         mine = [o for o in outcomes if o.function == vf.node.name]
-        table.add_row(vf.node.name, str(len(mine)), str(sum(o.passed for o in mine)),
-                      str(sum(not o.passed for o in mine)))
+        table.add_row(
+            vf.node.name, str(len(mine)), str(sum(o.passed for o in mine)), str(sum(not o.passed for o in mine))
+        )
     out.print(table)
     for o in failed:
         out.print(f"[bold red]FAIL[/] {o.id} ({'; '.join(o.covers)}): {o.mismatch}")

@@ -116,8 +116,9 @@ def prove(
     depend on what the process proved before.
     """
     with fresh_context():
-        return _prove(prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, smooth_cex=smooth_cex,
-                      _chain=_chain)
+        return _prove(
+            prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, smooth_cex=smooth_cex, _chain=_chain
+        )
 
 
 def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Result:
@@ -128,28 +129,24 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Res
     max_k = prop.max_k if max_k is None else max_k
 
     def result(status, engine="", k=None, message="", trace=None, replay=None, witnesses=(), smoothing=None):
-        return Result(prop.name, prop.requirement, status, engine, k, time.monotonic() - start, message, trace, replay,
-                      tuple(witnesses), smoothing)
+        return Result(
+            prop.name,
+            prop.requirement,
+            status,
+            engine,
+            k,
+            time.monotonic() - start,
+            message,
+            trace,
+            replay,
+            tuple(witnesses),
+            smoothing,
+        )
 
     try:
-        assumed = []
-        if prop.name in _chain:
-            return result("error", message=f"lemma cycle: {' -> '.join((*_chain, prop.name))}")
-        for name in prop.lemmas:
-            if lemmas is None or name not in lemmas:
-                return result("error", message=f"lemma {name!r} is not a known property")
-            lemma = lemmas[name]
-            check_lemma(prop, lemma)
-            sub = proved.get(name) if proved is not None else None
-            if sub is None:
-                sub = prove(lemma, timeout_s=deadline.remaining(), lemmas=lemmas, proved=proved,
-                            smooth_cex=smooth_cex, _chain=(*_chain, prop.name))
-                if proved is not None:
-                    proved[name] = sub
-            if sub.status not in ("proved", "vacuous"):  # a vacuous lemma still holds: assuming it is sound
-                status = "error" if sub.status in ("falsified", "error") else "unknown"
-                return result(status, message=f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))
-            assumed.append(lemma)
+        assumed, failure = _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, _chain)
+        if failure is not None:
+            return result(*failure)
         u = Unrolling(prop, tuple(assumed))
         bmc, induction = Bmc(u), Induction(u)
         for k in range(max_k + 1):
@@ -157,28 +154,12 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Res
             # is too hard for the solver (the step of a broken model is typically the harder check)
             base = bmc.check(k, deadline.remaining())
             if base.result == "sat":
-                model, smoothing = base.model, None
-                if smooth_cex:  # within the time left, never past it: the counterexample is kept either way
-                    model, smoothing = smooth(u, bmc.solver, k, base.model, deadline.left())
-                trace = extract(u, model, k)
-                try:
-                    replayed = reproduce(prop, trace)
-                except ReplayError as exc:
-                    return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace,
-                                  smoothing=smoothing)
-                message = f"violated at step {k}" + (f"; {smoothing.describe()}" if smoothing else "")
-                return result("falsified", "bmc", k, message, trace, replayed, smoothing=smoothing)
+                return _counterexample(prop, u, bmc, k, base.model, deadline if smooth_cex else None, result)
             if base.result == "unknown":
                 return result("unknown", "bmc", k, _unknown(base, "BMC", k))
             step = induction.check(k, deadline.remaining())
             if step.result == "unsat":
-                vacuity = check_vacuity(u, timeout_s=deadline.remaining())
-                if vacuity.status == "non-vacuous":
-                    return result("proved", "k-induction", k, witnesses=vacuity.witnesses)
-                status = "vacuous" if vacuity.status == "vacuous" else "unknown"
-                return result(status, "k-induction", k, f"proved, but {vacuity.message}"
-                              if status == "vacuous" else f"proved, but vacuity unknown: {vacuity.message}",
-                              witnesses=vacuity.witnesses)
+                return _with_vacuity(u, k, deadline, result)
             if step.result == "unknown":
                 return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
         return result(
@@ -192,6 +173,63 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Res
         return result("unknown", message=f"timeout after {timeout_s:g} s")
     except Exception as exc:  # the model or property could not be built: report, never pass
         return result("error", message=f"{type(exc).__name__}: {exc}{_model_location(exc)}")
+
+
+def _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, chain) -> tuple[list[Property], tuple | None]:
+    """The lemmas ``prop`` rests on, each proved first (or taken from ``proved``); else the (status, engine, k,
+    message) of the verdict: an error for a lemma cycle, an unknown lemma or a failed one, unknown if one is."""
+    if prop.name in chain:
+        return [], ("error", "", None, f"lemma cycle: {' -> '.join((*chain, prop.name))}")
+    assumed = []
+    for name in prop.lemmas:
+        if lemmas is None or name not in lemmas:
+            return [], ("error", "", None, f"lemma {name!r} is not a known property")
+        lemma = lemmas[name]
+        check_lemma(prop, lemma)
+        sub = proved.get(name) if proved is not None else None
+        if sub is None:
+            sub = prove(
+                lemma,
+                timeout_s=deadline.remaining(),
+                lemmas=lemmas,
+                proved=proved,
+                smooth_cex=smooth_cex,
+                _chain=(*chain, prop.name),
+            )
+            if proved is not None:
+                proved[name] = sub
+        if sub.status not in ("proved", "vacuous"):  # a vacuous lemma still holds: assuming it is sound
+            status = "error" if sub.status in ("falsified", "error") else "unknown"
+            return [], (status, "", None, f"lemma {name} is {sub.status}: {sub.message}".rstrip(": "))
+        assumed.append(lemma)
+    return assumed, None
+
+
+def _counterexample(prop, u, bmc, k, model, deadline, result) -> Result:
+    """The base case failed at depth ``k``: the counterexample, smoothed within the time left if ``deadline`` is
+    given (never past it: the counterexample is kept either way), replayed exactly."""
+    smoothing = None
+    if deadline is not None:
+        model, smoothing = smooth(u, bmc.solver, k, model, deadline.left())
+    trace = extract(u, model, k)
+    try:
+        replayed = reproduce(prop, trace)
+    except ReplayError as exc:
+        return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace, smoothing=smoothing)
+    message = f"violated at step {k}" + (f"; {smoothing.describe()}" if smoothing else "")
+    return result("falsified", "bmc", k, message, trace, replayed, smoothing=smoothing)
+
+
+def _with_vacuity(u, k, deadline, result) -> Result:
+    """The inductive step holds at ``k``: proved if the property is not vacuous, else vacuous or unknown."""
+    vacuity = check_vacuity(u, timeout_s=deadline.remaining())
+    if vacuity.status == "non-vacuous":
+        return result("proved", "k-induction", k, witnesses=vacuity.witnesses)
+    if vacuity.status == "vacuous":
+        return result("vacuous", "k-induction", k, f"proved, but {vacuity.message}", witnesses=vacuity.witnesses)
+    return result(
+        "unknown", "k-induction", k, f"proved, but vacuity unknown: {vacuity.message}", witnesses=vacuity.witnesses
+    )
 
 
 _ENGINE_DIRS = (str(Path(__file__).parents[1]), str(Path(ops.__file__).parent))

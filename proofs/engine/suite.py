@@ -13,17 +13,25 @@ _proved_in_this_worker: dict[str, Result] = {}
 """Lemma results in a worker process (workers are spawned afresh for each run)."""
 
 
-def _prove_registered(name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False
-                      ) -> Result:
+def _prove_registered(
+    name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False
+) -> Result:
     proved = _proved_in_this_worker if proved is None else proved
-    result = proved.get(name) or prove(PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved,
-                                       smooth_cex=smooth)
+    result = proved.get(name) or prove(
+        PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved, smooth_cex=smooth
+    )
     proved[name] = result
     return result
 
 
-def run(props: list[Property], *, timeout_s: float, jobs: int = 1,
-        on_start: Callable[[Property], None] = lambda p: None, smooth: bool = False) -> Iterator[Result]:
+def run(
+    props: list[Property],
+    *,
+    timeout_s: float,
+    jobs: int = 1,
+    on_start: Callable[[Property], None] = lambda p: None,
+    smooth: bool = False,
+) -> Iterator[Result]:
     """Yield one result per registered property, in completion order; with ``smooth``, counterexamples are
     smoothed (:mod:`atcs.proofs.cex.smoothing`)."""
     if jobs < 1:

@@ -124,8 +124,9 @@ class Unrolling:
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""
         sa, sb = self.state(a), self.state(b)
-        return unwrap(SYMBOLIC.or_(*(SYMBOLIC.not_(equal(getattr(sa, n), getattr(sb, n)))
-                                     for n in self.node.sorts("state"))))
+        return unwrap(
+            SYMBOLIC.or_(*(SYMBOLIC.not_(equal(getattr(sa, n), getattr(sb, n))) for n in self.node.sorts("state")))
+        )
 
 
 def model_value(model: z3.ModelRef, value):

@@ -1,4 +1,4 @@
-"""Vacuity (issue 9): is a proved property true only because nothing it speaks of can happen?
+"""Vacuity: is a proved property true only because nothing it speaks of can happen?
 
 Two questions, each answered with a witness run found by BMC (a run from an initial state with every assumption
 and lemma holding, replayed on the exact backend):
@@ -56,7 +56,7 @@ def antecedents(term: z3.BoolRef) -> list[z3.BoolRef]:
 
 def _short(term: z3.ExprRef, limit: int = 160) -> str:
     text = " ".join(str(term).split())
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def check_vacuity(u: Unrolling, *, timeout_s: float, depth: int = WITNESS_DEPTH) -> Vacuity:
@@ -80,12 +80,16 @@ def check_vacuity(u: Unrolling, *, timeout_s: float, depth: int = WITNESS_DEPTH)
         for what, goal in goals_now:
             check = solve(solver, goal, max(end - time.monotonic(), 0.001))
             if check.result == "unknown":
-                return Vacuity("unknown", f"the solver gave up looking for a run where the {what} "
-                                          f"({check.reason or 'unknown'}, step {k})", found)
+                return Vacuity(
+                    "unknown",
+                    f"the solver gave up looking for a run where the {what} ({check.reason or 'unknown'}, step {k})",
+                    found,
+                )
             if check.result == "unsat":
                 if what == "assumptions":
-                    return Vacuity("vacuous", "no initial state and input meet the assumptions: the property "
-                                              "claims nothing", found)
+                    return Vacuity(
+                        "vacuous", "no initial state and input meet the assumptions: the property claims nothing", found
+                    )
                 continue
             trace = extract(u, check.model, k)
             problems = replay(u.prop, trace).problems
@@ -97,5 +101,9 @@ def check_vacuity(u: Unrolling, *, timeout_s: float, depth: int = WITNESS_DEPTH)
         if not missing:
             return Vacuity("non-vacuous", "", found)
     first = min(missing)
-    return Vacuity("vacuous", f"no run reaches antecedent {first} ({missing[first]}) within {depth} steps: the "
-                              "implication holds only because its condition never arises", found)
+    return Vacuity(
+        "vacuous",
+        f"no run reaches antecedent {first} ({missing[first]}) within {depth} steps: the "
+        "implication holds only because its condition never arises",
+        found,
+    )

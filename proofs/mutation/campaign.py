@@ -1,4 +1,4 @@
-"""The mutation campaign of ``atcs mutate`` (issue 9): every mutant of the model against the proof suite.
+"""The mutation campaign of ``atcs mutate``: every mutant of the model against the proof suite.
 
 For each mutant (:mod:`atcs.proofs.mutation.sites`) the properties of every node whose proofs run the mutated
 function are proved about the mutated model, lemmas included (themselves proved about the mutant first),
@@ -36,11 +36,6 @@ from atcs.properties.property import Property
 VERDICTS = ("killed", "survived", "timeout", "incompetent", "equivalent")
 COUNTED = ("killed", "survived", "timeout")
 """The verdicts the kill rate's denominator counts."""
-NODE_ORDER = ("ceiling_offset", "adhesion", "gradient_acceleration", "most_restrictive", "exceedances",
-              "stopping_point", "tacho_check", "supervision", "door_enable", "dcu", "door_loop", "resources",
-              "authority", "deceleration", "mrsp", "psl", "position_loop", "curves", "curves_stepped",
-              "mrsp_update", "closed_loop", "separation")
-"""Nodes by the cost of their proofs (README, proof figures): a mutant meets the cheap proofs first."""
 
 
 @dataclass
@@ -69,10 +64,22 @@ class Outcome:
 
     def record(self) -> dict:
         m = self.mutant
-        return {"id": m.id, "module": m.model_module, "function": m.function, "line": m.line, "operator": m.operator,
-                "original": m.original, "replacement": m.replacement, "verdict": self.verdict,
-                "killed_by": self.killed_by, "k": self.k, "seconds": round(self.seconds, 3),
-                "message": self.message, "checks": [dataclasses.asdict(c) for c in self.checks], "diff": m.diff}
+        return {
+            "id": m.id,
+            "module": m.model_module,
+            "function": m.function,
+            "line": m.line,
+            "operator": m.operator,
+            "original": m.original,
+            "replacement": m.replacement,
+            "verdict": self.verdict,
+            "killed_by": self.killed_by,
+            "k": self.k,
+            "seconds": round(self.seconds, 3),
+            "message": self.message,
+            "checks": [dataclasses.asdict(c) for c in self.checks],
+            "diff": m.diff,
+        }
 
 
 def _registry() -> dict[str, Property]:
@@ -118,14 +125,22 @@ def node_names() -> list[str]:
     return sorted({p.node.name for p in _registry().values()})
 
 
+def node_cost(node_name: str) -> tuple[int, str]:
+    """How dear a node's proofs are, by the number of the model's functions its step runs: a mutant meets the
+    cheap proofs first (the sub-function nodes, then the larger ones, the closed loop and separation last)."""
+    return len(_functions_of(node_name)), node_name
+
+
 def affected_properties(mutant: Mutant, nodes: tuple[str, ...] | None = None) -> list[Property]:
     """The properties of every node (of ``nodes`` if given) whose proofs run the mutated function: cheap nodes
     first, lemmas first."""
     target = (f"atcs.model.{mutant.model_module}", mutant.function)
-    props = [p for p in _registry().values() if target in _functions_of(p.node.name)
-             and (nodes is None or p.node.name in nodes)]
-    rank = {name: j for j, name in enumerate(NODE_ORDER)}
-    props.sort(key=lambda p: rank.get(p.node.name, len(NODE_ORDER)))
+    props = [
+        p
+        for p in _registry().values()
+        if target in _functions_of(p.node.name) and (nodes is None or p.node.name in nodes)
+    ]
+    props.sort(key=lambda p: node_cost(p.node.name))
     return _lemmas_first(props)
 
 
@@ -170,16 +185,22 @@ def run_mutant(mutant: Mutant, *, timeout_s: float, nodes: tuple[str, ...] | Non
     try:
         return _run_mutant(mutant, timeout_s, nodes, start, checks)
     except _Hang:
-        return Outcome(mutant, "timeout", time.monotonic() - start, checks=checks,
-                       message=f"stopped {limit:g} s after it started: the mutant's own code did not return "
-                               "(a loop that never ends?)")
+        return Outcome(
+            mutant,
+            "timeout",
+            time.monotonic() - start,
+            checks=checks,
+            message=f"stopped {limit:g} s after it started: the mutant's own code did not return "
+            "(a loop that never ends?)",
+        )
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
 
 
-def _run_mutant(mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None, start: float,
-                checks: list[Check]) -> Outcome:
+def _run_mutant(
+    mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None, start: float, checks: list[Check]
+) -> Outcome:
     from atcs.proofs.cex.trace import replay
     from atcs.proofs.engine.prove import prove
 
@@ -204,8 +225,12 @@ def _run_mutant(mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None,
                 continue
             try:
                 with mutated(mutant, props) as registry:
-                    result = prove(registry[prop.name], timeout_s=min(left, share) if first_pass else left,
-                                   lemmas=registry, proved=proved)
+                    result = prove(
+                        registry[prop.name],
+                        timeout_s=min(left, share) if first_pass else left,
+                        lemmas=registry,
+                        proved=proved,
+                    )
             except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
                 return outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
             _record(checks, Check(prop.name, result.status, round(result.seconds, 3), result.message))
@@ -246,8 +271,15 @@ def _run_by_id(mutant_id: str, timeout_s: float, nodes: tuple[str, ...] | None) 
     return outcome
 
 
-def run(mutants: list[Mutant], *, timeout_s: float, jobs: int = 1, equivalent: dict[str, str] | None = None,
-        nodes: tuple[str, ...] | None = None, on_done: Callable[[Outcome], None] = lambda o: None) -> list[Outcome]:
+def run(
+    mutants: list[Mutant],
+    *,
+    timeout_s: float,
+    jobs: int = 1,
+    equivalent: dict[str, str] | None = None,
+    nodes: tuple[str, ...] | None = None,
+    on_done: Callable[[Outcome], None] = lambda o: None,
+) -> list[Outcome]:
     """Every mutant's outcome, in the order of ``mutants`` (``equivalent``: id -> reason, not run; ``nodes``:
     only these nodes' properties are proved)."""
     if jobs < 1:

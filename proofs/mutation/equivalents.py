@@ -34,13 +34,15 @@ def load_equivalents(path: str | Path = REGISTRY, known: set[str] | None = None)
     reasons = {}
     for mutant_id, entry in doc.items():
         if not isinstance(entry, dict) or set(entry) != {"reason"}:
-            raise EquivalentsError(f"{path}: [{mutant_id!r}] must be a table with exactly one key, reason; "
-                                   f"got {entry!r}")
+            raise EquivalentsError(
+                f"{path}: [{mutant_id!r}] must be a table with exactly one key, reason; got {entry!r}"
+            )
         reason = entry["reason"]
         if not isinstance(reason, str) or not reason.strip():
             raise EquivalentsError(f"{path}: [{mutant_id!r}].reason must be a non-empty string, got {reason!r}")
         if known is not None and mutant_id not in known:
-            raise EquivalentsError(f"{path}: [{mutant_id!r}] names no mutant of the current model "
-                                   "(a stale id: the function changed)")
+            raise EquivalentsError(
+                f"{path}: [{mutant_id!r}] names no mutant of the current model (a stale id: the function changed)"
+            )
         reasons[mutant_id] = reason.strip()
     return reasons

@@ -61,8 +61,9 @@ def mutant_node(node: Node, old: str, new: str, *, function: str = "step", helpe
     return dataclasses.replace(node, **{function: rebound})
 
 
-def mutant_property(prop: Property, old: str, new: str, *, function: str = "step",
-                    helper: Callable | None = None) -> Property:
+def mutant_property(
+    prop: Property, old: str, new: str, *, function: str = "step", helper: Callable | None = None
+) -> Property:
     """``prop`` about the mutated node."""
     return dataclasses.replace(prop, node=mutant_node(prop.node, old, new, function=function, helper=helper))
 
@@ -112,8 +113,16 @@ class MutantRun:
         return f"{self.result.name}: {self.result.status} at k={self.result.k} {self.result.message}".rstrip()
 
 
-def falsify(prop: Property, function: Callable, old: str, new: str, *, timeout_s: float = 120,
-            max_k: int | None = None, smooth: bool = False) -> MutantRun:
+def falsify(
+    prop: Property,
+    function: Callable,
+    old: str,
+    new: str,
+    *,
+    timeout_s: float = 120,
+    max_k: int | None = None,
+    smooth: bool = False,
+) -> MutantRun:
     """Prove ``prop``, without its lemmas (a mutant's lemma may not hold), about the model with ``old`` replaced
     by ``new`` in ``function``: the node's own ``step`` or ``init`` gives a mutant node, any other function is
     swapped in for the proof (:func:`patched`). ``smooth`` asks for the counterexample with the fewest input

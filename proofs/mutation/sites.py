@@ -1,4 +1,4 @@
-"""Mutation sites: the systematic faults of ``atcs mutate``, found in the AST of the model's own functions (issue 9).
+"""Mutation sites: the systematic faults of ``atcs mutate``, found in the AST of the model's own functions.
 
 The functions mutated are each node's ``step`` and ``init`` and the model helpers they call, directly or not
 (module-level functions of ``atcs.model`` modules, the Ops backends and the node framework excepted). Each site
@@ -29,8 +29,20 @@ import types
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
-OPERATORS = ("cmp_strict", "cmp_flip", "arith_sign", "arith_drop", "const", "literal", "const_bool", "bool_swap",
-             "not_drop", "minmax", "delay_late", "delay_hold")
+OPERATORS = (
+    "cmp_strict",
+    "cmp_flip",
+    "arith_sign",
+    "arith_drop",
+    "const",
+    "literal",
+    "const_bool",
+    "bool_swap",
+    "not_drop",
+    "minmax",
+    "delay_late",
+    "delay_hold",
+)
 _EXCLUDED_MODULES = ("atcs.model.ops", "atcs.model.node")
 _CMP = {ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">="}
 _STRICT = {"<": "<=", "<=": "<", ">": ">=", ">=": ">"}
@@ -64,8 +76,10 @@ class Mutant:
     @property
     def id(self) -> str:
         suffix = f"#{self.occurrence}" if self.occurrence > 1 else ""
-        return (f"{self.model_module}.{self.function}:+{self.offset}:{self.operator}:"
-                f"{self.original} -> {self.replacement}{suffix}")
+        return (
+            f"{self.model_module}.{self.function}:+{self.offset}:{self.operator}:"
+            f"{self.original} -> {self.replacement}{suffix}"
+        )
 
     def resolve(self) -> Callable:
         """The real function this mutant changes."""
@@ -73,9 +87,13 @@ class Mutant:
 
 
 def _is_model_function(value) -> bool:
-    return (isinstance(value, types.FunctionType) and value.__module__.startswith("atcs.model.")
-            and not value.__module__.startswith(_EXCLUDED_MODULES) and value.__qualname__ == value.__name__
-            and getattr(importlib.import_module(value.__module__), value.__name__, None) is value)
+    return (
+        isinstance(value, types.FunctionType)
+        and value.__module__.startswith("atcs.model.")
+        and not value.__module__.startswith(_EXCLUDED_MODULES)
+        and value.__qualname__ == value.__name__
+        and getattr(importlib.import_module(value.__module__), value.__name__, None) is value
+    )
 
 
 def _names(code: types.CodeType) -> set[str]:
@@ -150,14 +168,22 @@ def _wrapped(source: _Source, node: ast.AST) -> str:
 def _edits(fn: Callable, source: _Source, tree: ast.FunctionDef, states: dict[str, list[str]]):
     """``(operator, start, end, original, replacement)`` for every site in ``fn``'s body."""
     ops_name = tree.args.args[0].arg if tree.args.args else None
-    body = tree.body[1:] if (tree.body and isinstance(tree.body[0], ast.Expr)
-                             and isinstance(tree.body[0].value, ast.Constant)) else tree.body
+    body = (
+        tree.body[1:]
+        if (tree.body and isinstance(tree.body[0], ast.Expr) and isinstance(tree.body[0].value, ast.Constant))
+        else tree.body
+    )
     nodes = [n for stmt in body for n in ast.walk(stmt)]
     skip_literals: set[int] = set()
 
     def is_ops_call(n, *attrs):
-        return (isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr in attrs
-                and isinstance(n.func.value, ast.Name) and n.func.value.id == ops_name)
+        return (
+            isinstance(n, ast.Call)
+            and isinstance(n.func, ast.Attribute)
+            and n.func.attr in attrs
+            and isinstance(n.func.value, ast.Name)
+            and n.func.value.id == ops_name
+        )
 
     for n in nodes:
         if is_ops_call(n, "const", "const_bool"):
@@ -166,48 +192,70 @@ def _edits(fn: Callable, source: _Source, tree: ast.FunctionDef, states: dict[st
             skip_literals |= {id(a) for a in ast.walk(n.slice)}
     for n in nodes:
         if isinstance(n, ast.Compare):
-            operands = [n.left, *n.comparators]
-            for op, left, right in zip(n.ops, operands, operands[1:], strict=False):
-                token = _CMP.get(type(op))
-                if token is None:
-                    continue
-                start, end = source.span(left)[1], source.span(right)[0]
-                gap = source.text[start:end]
-                at = start + gap.index(token)
-                for operator, table in (("cmp_strict", _STRICT), ("cmp_flip", _FLIP)):
-                    yield operator, at, at + len(token), token, table[token]
-        elif isinstance(n, ast.BinOp) and isinstance(n.op, (ast.Add, ast.Sub)):
-            token, other = ("+", "-") if isinstance(n.op, ast.Add) else ("-", "+")
-            start, end = source.span(n.left)[1], source.span(n.right)[0]
-            at = start + source.text[start:end].index(token)
-            yield "arith_sign", at, at + 1, token, other
-            whole = source.span(n)
-            yield "arith_drop", *whole, source.segment(n), _wrapped(source, n.left)
-            if isinstance(n.op, ast.Add):
-                yield "arith_drop", *whole, source.segment(n), _wrapped(source, n.right)
-        elif isinstance(n, ast.UnaryOp) and isinstance(n.op, ast.USub):
-            yield "arith_sign", *source.span(n), source.segment(n), _wrapped(source, n.operand)
+            yield from _compare_edits(source, n)
+        elif isinstance(n, (ast.BinOp, ast.UnaryOp)):
+            yield from _arith_edits(source, n)
         elif isinstance(n, ast.Constant) and type(n.value) is int and id(n) not in skip_literals:
             yield "literal", *source.span(n), source.segment(n), str(n.value + 1)
-        elif is_ops_call(n, "const") and len(n.args) == 1:
-            text = source.segment(n)
-            yield "const", *source.span(n), text, f"({text} * 11 + 1) / 10"
-        elif is_ops_call(n, "const_bool") and len(n.args) == 1 and isinstance(n.args[0], ast.Constant):
-            yield "const_bool", *source.span(n.args[0]), str(n.args[0].value), str(not n.args[0].value)
-        elif is_ops_call(n, "and_", "or_", "min", "max"):
-            operator = "bool_swap" if n.func.attr in ("and_", "or_") else "minmax"
-            end = source.span(n.func)[1]
-            yield operator, end - len(n.func.attr), end, n.func.attr, _SWAP[n.func.attr]
-        elif is_ops_call(n, "not_") and len(n.args) == 1:
-            yield "not_drop", *source.span(n), source.segment(n), _wrapped(source, n.args[0])
+        elif is_ops_call(n, "const", "const_bool", "and_", "or_", "min", "max", "not_"):
+            yield from _ops_call_edits(source, n)
     yield from _delays(source, tree, nodes, states)
+
+
+def _compare_edits(source: _Source, n: ast.Compare):
+    """A comparison made strict (or not) and flipped."""
+    operands = [n.left, *n.comparators]
+    for op, left, right in zip(n.ops, operands, operands[1:], strict=False):
+        token = _CMP.get(type(op))
+        if token is None:
+            continue
+        start, end = source.span(left)[1], source.span(right)[0]
+        at = start + source.text[start:end].index(token)
+        for operator, table in (("cmp_strict", _STRICT), ("cmp_flip", _FLIP)):
+            yield operator, at, at + len(token), token, table[token]
+
+
+def _arith_edits(source: _Source, n: ast.BinOp | ast.UnaryOp):
+    """A sum or difference with its sign swapped or an operand dropped; a negation dropped."""
+    if isinstance(n, ast.BinOp) and isinstance(n.op, (ast.Add, ast.Sub)):
+        token, other = ("+", "-") if isinstance(n.op, ast.Add) else ("-", "+")
+        start, end = source.span(n.left)[1], source.span(n.right)[0]
+        at = start + source.text[start:end].index(token)
+        yield "arith_sign", at, at + 1, token, other
+        whole = source.span(n)
+        yield "arith_drop", *whole, source.segment(n), _wrapped(source, n.left)
+        if isinstance(n.op, ast.Add):
+            yield "arith_drop", *whole, source.segment(n), _wrapped(source, n.right)
+    elif isinstance(n, ast.UnaryOp) and isinstance(n.op, ast.USub):
+        yield "arith_sign", *source.span(n), source.segment(n), _wrapped(source, n.operand)
+
+
+def _ops_call_edits(source: _Source, n: ast.Call):
+    """A call of the ops: a constant changed, a boolean constant negated, and/or and min/max swapped, a
+    negation dropped."""
+    attr = n.func.attr
+    if attr == "const" and len(n.args) == 1:
+        text = source.segment(n)
+        yield "const", *source.span(n), text, f"({text} * 11 + 1) / 10"
+    elif attr == "const_bool" and len(n.args) == 1 and isinstance(n.args[0], ast.Constant):
+        yield "const_bool", *source.span(n.args[0]), str(n.args[0].value), str(not n.args[0].value)
+    elif attr in ("and_", "or_", "min", "max"):
+        operator = "bool_swap" if attr in ("and_", "or_") else "minmax"
+        end = source.span(n.func)[1]
+        yield operator, end - len(attr), end, attr, _SWAP[attr]
+    elif attr == "not_" and len(n.args) == 1:
+        yield "not_drop", *source.span(n), source.segment(n), _wrapped(source, n.args[0])
 
 
 def _delays(source: _Source, tree: ast.FunctionDef, nodes: list[ast.AST], states: dict[str, list[str]]):
     """The off-by-one cycle sites: the function builds a node's next state from a parameter of that state type."""
-    params = {a.arg: a.annotation.id if isinstance(a.annotation, ast.Name) else
-              (a.annotation.value if isinstance(a.annotation, ast.Constant) else None)
-              for a in tree.args.args if a.annotation is not None}
+    params = {
+        a.arg: a.annotation.id
+        if isinstance(a.annotation, ast.Name)
+        else (a.annotation.value if isinstance(a.annotation, ast.Constant) else None)
+        for a in tree.args.args
+        if a.annotation is not None
+    }
     for n in nodes:
         if not (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in states):
             continue
@@ -224,8 +272,12 @@ def _delays(source: _Source, tree: ast.FunctionDef, nodes: list[ast.AST], states
                 yield "delay_hold", *source.span(value), source.segment(value), held
             if isinstance(value, ast.Name):
                 for use in nodes:
-                    if (isinstance(use, ast.Name) and use.id == value.id and isinstance(use.ctx, ast.Load)
-                            and id(use) not in inside):
+                    if (
+                        isinstance(use, ast.Name)
+                        and use.id == value.id
+                        and isinstance(use.ctx, ast.Load)
+                        and id(use) not in inside
+                    ):
                         yield "delay_late", *source.span(use), use.id, held
 
 
@@ -258,11 +310,30 @@ def function_mutants(fn: Callable, nodes) -> list[Mutant]:
         seen[key] = seen.get(key, 0) + 1
         old, new = _unique_change(source, start, end, replacement)
         mutated = source.text[:start] + replacement + source.text[end:]
-        diff = "".join(difflib.unified_diff(
-            source.lines, mutated.splitlines(keepends=True), f"a/{module}.py:{fn.__name__}",
-            f"b/{module}.py:{fn.__name__}", n=2))
-        mutants.append(Mutant(module, fn.__name__, operator, first_line + offset - 1, offset,
-                              " ".join(original.split()), " ".join(replacement.split()), seen[key], old, new, diff))
+        diff = "".join(
+            difflib.unified_diff(
+                source.lines,
+                mutated.splitlines(keepends=True),
+                f"a/{module}.py:{fn.__name__}",
+                f"b/{module}.py:{fn.__name__}",
+                n=2,
+            )
+        )
+        mutants.append(
+            Mutant(
+                module,
+                fn.__name__,
+                operator,
+                first_line + offset - 1,
+                offset,
+                " ".join(original.split()),
+                " ".join(replacement.split()),
+                seen[key],
+                old,
+                new,
+                diff,
+            )
+        )
     return mutants
 
 

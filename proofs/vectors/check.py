@@ -1,4 +1,4 @@
-"""``atcs vectors check DIR --impl COMMAND``: test an external implementation against the vectors (issue 9).
+"""``atcs vectors check DIR --impl COMMAND``: test an external implementation against the vectors.
 
 The implementation runs as one subprocess speaking JSON lines. For each vector atcs writes one request line::
 
@@ -61,10 +61,14 @@ def _floats(record: dict[str, Any]) -> dict[str, Any]:
 
 def request(function: str, v: Vector) -> dict[str, Any]:
     return {
-        "id": v.id, "function": function,
-        "params": _floats(v.params), "state": _floats(v.state), "inputs": _floats(v.inputs),
-        "exact": {role: {n: format_value(x) for n, x in getattr(v, role).items()}
-                  for role in ("params", "state", "inputs")},
+        "id": v.id,
+        "function": function,
+        "params": _floats(v.params),
+        "state": _floats(v.state),
+        "inputs": _floats(v.inputs),
+        "exact": {
+            role: {n: format_value(x) for n, x in getattr(v, role).items()} for role in ("params", "state", "inputs")
+        },
     }
 
 
@@ -96,8 +100,11 @@ def first_mismatch(v: Vector, answer: Any, rel_tol: float, abs_tol: float) -> st
         for name, value in want.items():
             if name not in got:
                 return f"{role}.{name}: missing from the answer"
-            pairs = (list(zip(value, got[name], strict=True)) if isinstance(value, tuple)
-                     and isinstance(got[name], list) and len(got[name]) == len(value) else None)
+            pairs = (
+                list(zip(value, got[name], strict=True))
+                if isinstance(value, tuple) and isinstance(got[name], list) and len(got[name]) == len(value)
+                else None
+            )
             if isinstance(value, tuple) and pairs is None:
                 return f"{role}.{name}: expected a list of {len(value)}, got {got[name]!r}"
             for j, (w, g) in enumerate(pairs or [(value, got[name])]):
@@ -121,8 +128,7 @@ class Implementation:
         if not argv:
             raise ImplementationStartError("--impl is empty")
         try:
-            self.process = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True,
-                                            bufsize=1)
+            self.process = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1)
         except OSError as exc:
             raise ImplementationStartError(f"--impl {command!r} cannot be started: {exc.strerror}") from None
 
@@ -134,8 +140,9 @@ class Implementation:
             raise ImplementationError(self._stopped()) from None
         ready, _, _ = select.select([self.process.stdout], [], [], self.timeout_s)
         if not ready:
-            raise ImplementationError(f"--impl {self.command!r} did not answer {message['id']} within "
-                                      f"{self.timeout_s:g} s")
+            raise ImplementationError(
+                f"--impl {self.command!r} did not answer {message['id']} within {self.timeout_s:g} s"
+            )
         line = self.process.stdout.readline()
         if not line:
             raise ImplementationError(self._stopped())
@@ -161,8 +168,9 @@ class Implementation:
             self.process.wait()
 
 
-def check(files: list[VectorFile], command: str, *, rel_tol: float = 1e-9, abs_tol: float = 1e-9,
-          timeout_s: float = 10) -> list[Outcome]:
+def check(
+    files: list[VectorFile], command: str, *, rel_tol: float = 1e-9, abs_tol: float = 1e-9, timeout_s: float = 10
+) -> list[Outcome]:
     """Ask the implementation for every vector of ``files`` and compare; raises ImplementationError if it
     cannot be run or stops answering."""
     impl = Implementation(command, timeout_s)

@@ -1,4 +1,4 @@
-"""Test-vector files: JSON with a manifest, and CSV, one of each per function (issue 9).
+"""Test-vector files: JSON with a manifest, and CSV, one of each per function.
 
 ``DIR/<function>.json`` holds the manifest, the coverage goals and the vectors; ``DIR/<function>.csv`` is the
 same vectors as one table, like the seed's test-case tables (seed 001 Fig. 10 to 12). Numbers are exact
@@ -76,11 +76,17 @@ def _float(value):
 
 def vector_json(v: Vector) -> dict[str, Any]:
     return {
-        "id": v.id, "context": v.context, "covers": list(v.covers),
-        "params": _exact(v.params), "state": _exact(v.state), "inputs": _exact(v.inputs),
+        "id": v.id,
+        "context": v.context,
+        "covers": list(v.covers),
+        "params": _exact(v.params),
+        "state": _exact(v.state),
+        "inputs": _exact(v.inputs),
         "expected": {"next_state": _exact(v.next_state), "outputs": _exact(v.outputs)},
-        "expected_float": {"next_state": {n: _float(x) for n, x in v.next_state.items()},
-                           "outputs": {n: _float(x) for n, x in v.outputs.items()}},
+        "expected_float": {
+            "next_state": {n: _float(x) for n, x in v.next_state.items()},
+            "outputs": {n: _float(x) for n, x in v.outputs.items()},
+        },
     }
 
 
@@ -107,15 +113,20 @@ def to_csv(vectors: list[dict]) -> str:
     def cells(v):
         inputs = [x for role, _ in _ROLES for x in _spread(v[role]).values()]
         results = [x for role, _ in _RESULTS for x in _spread(v["expected"][role]).values()]
-        floats = [x for role, _ in _RESULTS for x in _spread(v["expected_float"][role]).values()
-                  if not isinstance(x, bool)]
+        floats = [
+            x for role, _ in _RESULTS for x in _spread(v["expected_float"][role]).values() if not isinstance(x, bool)
+        ]
         return inputs + results + floats
 
     header = ["id", "context", "covers"]
     header += [f"{prefix}.{n}" for role, prefix in _ROLES for n in _spread(first[role])]
     header += [f"expected.{prefix}.{n}" for role, prefix in _RESULTS for n in _spread(first["expected"][role])]
-    header += [f"expected.{prefix}.{n} (double)" for role, prefix in _RESULTS
-               for n, x in _spread(first["expected_float"][role]).items() if not isinstance(x, bool)]
+    header += [
+        f"expected.{prefix}.{n} (double)"
+        for role, prefix in _RESULTS
+        for n, x in _spread(first["expected_float"][role]).items()
+        if not isinstance(x, bool)
+    ]
     writer.writerow(header)
     for v in vectors:
         writer.writerow([v["id"], v["context"], "; ".join(v["covers"]), *cells(v)])
@@ -201,8 +212,9 @@ def read(path: str | Path) -> VectorFile:
         _need(path, f"manifest.{key}", manifest.get(key), str, "a string")
     function = manifest["function"]
     if function not in NODES:
-        raise VectorFileError(f"{path}: manifest.function names no function of the model: {function!r} "
-                              f"(functions: {', '.join(NODES)})")
+        raise VectorFileError(
+            f"{path}: manifest.function names no function of the model: {function!r} (functions: {', '.join(NODES)})"
+        )
     node = NODES[function]
     goals = _need(path, "field 'goals'", doc.get("goals"), list, "a list")
     raw = _need(path, "field 'vectors'", doc.get("vectors"), list, "a list")
@@ -213,12 +225,15 @@ def read(path: str | Path) -> VectorFile:
         ident = _need(path, f"{where}.id", v.get("id"), str, "a string")
         context = _need(path, f"{where}.context", v.get("context", ""), str, "a string")
         covers = _need(path, f"{where}.covers", v.get("covers"), list, "a list of goal ids")
-        values = {role: parse_record(path, f"{where}.{role}", v.get(role), node.sorts(role))
-                  for role in ("params", "state", "inputs")}
+        values = {
+            role: parse_record(path, f"{where}.{role}", v.get(role), node.sorts(role))
+            for role in ("params", "state", "inputs")
+        }
         exp = _need(path, f"{where}.expected", v.get("expected"), dict, "an object")
         vector = Vector(ident, context, values["params"], values["state"], values["inputs"], covers=list(covers))
-        vector.next_state = parse_record(path, f"{where}.expected.next_state", exp.get("next_state"),
-                                         node.sorts("state"))
+        vector.next_state = parse_record(
+            path, f"{where}.expected.next_state", exp.get("next_state"), node.sorts("state")
+        )
         vector.outputs = parse_record(path, f"{where}.expected.outputs", exp.get("outputs"), node.sorts("outputs"))
         result.vectors.append(vector)
     return result

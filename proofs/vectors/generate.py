@@ -1,4 +1,4 @@
-"""Certified test vectors of a step function, found with z3, expected outputs computed exactly (issue 9).
+"""Certified test vectors of a step function, found with z3, expected outputs computed exactly.
 
 Seed 001 §3.4 (Fig. 9 to 12) tests each of the ATP's sub-function models with input and expected-output test
 cases before code generation. A vector here is one step of a node, the model's sub-function: parameters, state
@@ -82,8 +82,10 @@ class FunctionVectors:
         table = {}
         for kind in KINDS:
             goals = [g for g in self.goals if g.kind == kind]
-            table[kind] = {"goals": len(goals), **{s: sum(g.status == s for g in goals)
-                                                    for s in ("covered", "infeasible", "unknown")}}
+            table[kind] = {
+                "goals": len(goals),
+                **{s: sum(g.status == s for g in goals) for s in ("covered", "infeasible", "unknown")},
+            }
         return table
 
     def requirements_covered(self) -> list[str]:
@@ -93,8 +95,7 @@ class FunctionVectors:
 
 def expected(node: Node, vector: Vector) -> None:
     """Fill in the next state and outputs of the exact backend (raises what the model raises)."""
-    nxt, out = node.step(EXACT, node.params(**vector.params), node.state(**vector.state),
-                         node.inputs(**vector.inputs))
+    nxt, out = node.step(EXACT, node.params(**vector.params), node.state(**vector.state), node.inputs(**vector.inputs))
     vector.next_state, vector.outputs = as_dict(nxt), as_dict(out)
 
 
@@ -137,8 +138,10 @@ class _Search:
             term = unwrap(v)
             return model_value(model, wrap(renamed.get(str(term), term)))
 
-        return {role: {n: value(v) for n, v in as_dict(getattr(self.frame, role)).items()}
-                for role in ("params", "state", "inputs")}
+        return {
+            role: {n: value(v) for n, v in as_dict(getattr(self.frame, role)).items()}
+            for role in ("params", "state", "inputs")
+        }
 
     def context_of(self, model: z3.ModelRef, twin: bool) -> str:
         for c in self.frame.contexts:
@@ -165,19 +168,30 @@ def _requirement_goals(search: _Search, node: Node, props: tuple[Property, ...],
         left = search.deadline - time.monotonic()
         vac = check_vacuity(Unrolling(prop), timeout_s=max(min(left, search.timeout_s * 10), 0.001))
         for witness in vac.witnesses:
-            goal = Goal("requirement", f"{prop.requirement} {prop.name} ({witness.what.split(':')[0]})",
-                        f"{prop.text} [{witness.what}]")
+            goal = Goal(
+                "requirement",
+                f"{prop.requirement} {prop.name} ({witness.what.split(':')[0]})",
+                f"{prop.text} [{witness.what}]",
+            )
             goals.append(goal)
             k, trace = witness.step, witness.trace
             vector = Vector("", prop.name, dict(trace.params), dict(trace.states[k]), dict(trace.inputs[k]))
             _cover(goal, lambda goal=goal, vector=vector: search.keep(node, vector, goal.id))
         if vac.status != "non-vacuous":
-            goals.append(Goal("requirement", f"{prop.requirement} {prop.name} (not reached)", prop.text,
-                              "infeasible" if vac.status == "vacuous" else "unknown", vac.message))
+            goals.append(
+                Goal(
+                    "requirement",
+                    f"{prop.requirement} {prop.name} (not reached)",
+                    prop.text,
+                    "infeasible" if vac.status == "vacuous" else "unknown",
+                    vac.message,
+                )
+            )
 
 
-def _boundary_goals(search: _Search, node: Node, numbered: list[tuple[int, z3.BoolRef, Decision]],
-                    goals: list[Goal]) -> None:
+def _boundary_goals(
+    search: _Search, node: Node, numbered: list[tuple[int, z3.BoolRef, Decision]], goals: list[Goal]
+) -> None:
     for j, comparison, decision in numbered:
         g = gap(comparison)
         observed = decides(decision, comparison)
@@ -191,8 +205,7 @@ def _boundary_goals(search: _Search, node: Node, numbered: list[tuple[int, z3.Bo
                 check, reason = search.check(on)
             else:
                 goal.text += f" (deciding {decision.id})"
-            _settle(search, node, goal, check, reason, lambda model, goal=goal: (
-                search.add(node, model, goal.id),))
+            _settle(search, node, goal, check, reason, lambda model, goal=goal: (search.add(node, model, goal.id),))
 
 
 def _mcdc_goals(search: _Search, node: Node, d: Decision, goals: list[Goal]) -> None:
@@ -207,9 +220,17 @@ def _mcdc_goals(search: _Search, node: Node, d: Decision, goals: list[Goal]) -> 
             goal.text += " (masking)"
             free = decides(d, c)
             check, reason = search.check(z3.And(differs, flips, free, search.copy(free)), pair=True)
-        _settle(search, node, goal, check, reason, lambda model, goal=goal: (
-            search.add(node, model, f"{goal.id} (pair a)"),
-            search.add(node, model, f"{goal.id} (pair b)", twin=True)))
+        _settle(
+            search,
+            node,
+            goal,
+            check,
+            reason,
+            lambda model, goal=goal: (
+                search.add(node, model, f"{goal.id} (pair a)"),
+                search.add(node, model, f"{goal.id} (pair b)", twin=True),
+            ),
+        )
 
 
 def _settle(search, node, goal: Goal, check, reason: str, add: Callable) -> None:
@@ -231,8 +252,9 @@ def _cover(goal: Goal, add: Callable) -> None:
     goal.status = "covered"
 
 
-def generate(node: Node, props: tuple[Property, ...], *, timeout_s: float = 10,
-             budget_s: float = 3600) -> FunctionVectors:
+def generate(
+    node: Node, props: tuple[Property, ...], *, timeout_s: float = 10, budget_s: float = 3600
+) -> FunctionVectors:
     """The vectors of one function (see the module docstring); ``timeout_s`` bounds each solver query,
     ``budget_s`` the whole function (goals past it are ``unknown``)."""
     start = time.monotonic()

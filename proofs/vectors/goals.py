@@ -1,4 +1,4 @@
-"""What a test vector of one step can cover: requirements, comparison boundaries, MC/DC of decisions (issue 9).
+"""What a test vector of one step can cover: requirements, comparison boundaries, MC/DC of decisions.
 
 The goals are read off the z3 terms of one step of a node (its own ``step`` function run on the symbolic
 backend, :class:`StepFrame`), so nothing restates the model:
@@ -94,8 +94,7 @@ class Decision:
 def is_comparison(term: z3.ExprRef) -> bool:
     """An ordering comparison, or an equation between numbers."""
     return z3.is_app(term) and (
-        term.decl().kind() in _COMPARISONS
-        or (term.decl().kind() == z3.Z3_OP_EQ and z3.is_arith(term.arg(0)))
+        term.decl().kind() in _COMPARISONS or (term.decl().kind() == z3.Z3_OP_EQ and z3.is_arith(term.arg(0)))
     )
 
 
@@ -168,8 +167,10 @@ def decides(decision: Decision, condition: z3.BoolRef) -> z3.BoolRef:
     """The condition alone decides the decision's outcome: flipping it, the others as they are, flips the
     outcome (the Boolean derivative)."""
     ctx = condition.ctx
-    return z3.Xor(z3.substitute(decision.term, (condition, z3.BoolVal(True, ctx))),
-                  z3.substitute(decision.term, (condition, z3.BoolVal(False, ctx))))
+    return z3.Xor(
+        z3.substitute(decision.term, (condition, z3.BoolVal(True, ctx))),
+        z3.substitute(decision.term, (condition, z3.BoolVal(False, ctx))),
+    )
 
 
 def gap(comparison: z3.BoolRef) -> z3.ArithRef:
@@ -177,8 +178,17 @@ def gap(comparison: z3.BoolRef) -> z3.ArithRef:
     return comparison.arg(0) - comparison.arg(1)
 
 
-_INFIX = {z3.Z3_OP_LT: "<", z3.Z3_OP_LE: "<=", z3.Z3_OP_GT: ">", z3.Z3_OP_GE: ">=", z3.Z3_OP_EQ: "==",
-          z3.Z3_OP_ADD: "+", z3.Z3_OP_SUB: "-", z3.Z3_OP_MUL: "*", z3.Z3_OP_DIV: "/"}
+_INFIX = {
+    z3.Z3_OP_LT: "<",
+    z3.Z3_OP_LE: "<=",
+    z3.Z3_OP_GT: ">",
+    z3.Z3_OP_GE: ">=",
+    z3.Z3_OP_EQ: "==",
+    z3.Z3_OP_ADD: "+",
+    z3.Z3_OP_SUB: "-",
+    z3.Z3_OP_MUL: "*",
+    z3.Z3_OP_DIV: "/",
+}
 
 
 def short(term: z3.ExprRef, limit: int = 120) -> str:
@@ -214,4 +224,4 @@ def short(term: z3.ExprRef, limit: int = 120) -> str:
     text = "".join(parts)
     if complete and text.startswith("(") and text.endswith(")") and z3.is_app(term) and term.decl().kind() in _INFIX:
         text = text[1:-1]
-    return text if len(text) <= limit else text[:limit - 3] + "..."
+    return text if len(text) <= limit else text[: limit - 3] + "..."

@@ -1,4 +1,4 @@
-"""``atcs vectors verify``: re-check vector files against the model as it is now (issue 9).
+"""``atcs vectors verify``: re-check vector files against the model as it is now.
 
 For each file: the goals and vectors must match the manifest's SHA-256 (an edited file fails), the CSV its
 SHA-256 and the vectors, and the model's source its hash (a changed model is reported). Every vector is then
@@ -111,16 +111,21 @@ def _check_hashes(vf: VectorFile, problems: list[str]) -> None:
             problems.append(f"{csv_path.name} is not the table of the JSON file's vectors")
     source = model_sha256()
     if source != m["model_sha256"]:
-        problems.append(f"the model changed since the vectors were generated: its source hashes to {source}, "
-                        f"the manifest says {m['model_sha256']}")
+        problems.append(
+            f"the model changed since the vectors were generated: its source hashes to {source}, "
+            f"the manifest says {m['model_sha256']}"
+        )
     for j, raw in enumerate(vf.raw):
         floats = raw.get("expected_float")
         exact = raw["expected"]
         if not isinstance(floats, dict) or any(
-                _as_float(exact[role].get(n)) != floats.get(role, {}).get(n) for role in ("next_state", "outputs")
-                for n in exact[role]):
-            problems.append(f"vector {raw['id']} (vectors[{j}]): expected_float is not the nearest double of "
-                            "every expected number")
+            _as_float(exact[role].get(n)) != floats.get(role, {}).get(n)
+            for role in ("next_state", "outputs")
+            for n in exact[role]
+        ):
+            problems.append(
+                f"vector {raw['id']} (vectors[{j}]): expected_float is not the nearest double of every expected number"
+            )
 
 
 def _as_float(raw):
@@ -135,8 +140,10 @@ def _check_vector(vf: VectorFile, ev: _Evaluator, v: Vector, problems: list[str]
     for where, term in ev.frame.results():
         got = ev.value(term, pairs)
         if got is None or got != want[where]:
-            problems.append(f"vector {v.id}: {where} is {_show(want[where])} in the file, the symbolic "
-                            f"model gives {'no constant' if got is None else _show(got)}")
+            problems.append(
+                f"vector {v.id}: {where} is {_show(want[where])} in the file, the symbolic "
+                f"model gives {'no constant' if got is None else _show(got)}"
+            )
             return
     computed = Vector(v.id, v.context, v.params, v.state, v.inputs)
     try:
@@ -147,8 +154,9 @@ def _check_vector(vf: VectorFile, ev: _Evaluator, v: Vector, problems: list[str]
     got = _flat_expected(computed)
     for where, value in want.items():
         if got[where] != value:
-            problems.append(f"vector {v.id}: {where} is {_show(value)} in the file, the exact model "
-                            f"gives {_show(got[where])}")
+            problems.append(
+                f"vector {v.id}: {where} is {_show(value)} in the file, the exact model gives {_show(got[where])}"
+            )
             return
 
 
@@ -183,11 +191,14 @@ def _check_claims(vf: VectorFile, ev: _Evaluator, problems: list[str]) -> None:
         a, b = (pairs_of[pair[side].id] for side in ("pair a", "pair b"))
         c = d.conditions[j - 1]
         if ev.value(c, a) == ev.value(c, b) or ev.value(d.term, a) == ev.value(d.term, b):
-            problems.append(f"MC/DC {ident}: vectors {pair['pair a'].id} and {pair['pair b'].id} do not differ in "
-                            "both the condition and the decision")
+            problems.append(
+                f"MC/DC {ident}: vectors {pair['pair a'].id} and {pair['pair b'].id} do not differ in "
+                "both the condition and the decision"
+            )
         elif ident not in masking and any(ev.value(o, a) != ev.value(o, b) for o in d.conditions if o is not c):
-            problems.append(f"MC/DC {ident}: vectors {pair['pair a'].id} and {pair['pair b'].id} differ in "
-                            "another condition too")
+            problems.append(
+                f"MC/DC {ident}: vectors {pair['pair a'].id} and {pair['pair b'].id} differ in another condition too"
+            )
 
 
 def verify_file(path: str | Path) -> Verified:

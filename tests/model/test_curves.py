@@ -1,0 +1,182 @@
+"""Braking curves (seed 000 §2.4, 002 §3.2): train data validation, the EBD walk against closed forms,
+the curve properties proved and each falsified on a mutant whose counterexample replays."""
+
+import dataclasses
+from fractions import Fraction
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from atcs.model import curves
+from atcs.model.curves import (
+    Target,
+    adhesion_factor,
+    check_braking_capability,
+    curve_locations,
+    ebd_location_m,
+    ebd_speed2_at,
+)
+from atcs.model.ops.exact import EXACT
+from atcs.model.profile import Profile, gradient_profile
+from atcs.model.train_data import (
+    TrainDataError,
+    seed000_train,
+    seed002_national,
+    seed002_train,
+    subset026_national,
+    validate,
+)
+from atcs.proofs.cex.trace import replay, reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import patched
+from atcs.properties import PROPERTIES, select
+from atcs.properties.curves import PRESETS as CURVE_PRESETS
+
+TRAIN, NATIONAL = seed000_train(), subset026_national()
+
+
+class TestTrainData:
+    def test_presets_are_valid_and_in_si_units(self):
+        validate(seed000_train(), subset026_national())
+        validate(seed002_train(), seed002_national())
+        assert seed000_train().emergency_decelerations_mps2 == (Fraction(10, 9),)  # 4.0 km/h/s
+        assert seed002_train().service_decelerations_mps2 == (Fraction(35, 36),)  # 3.5 km/h/s
+
+    @pytest.mark.parametrize(
+        ("train_changes", "national_changes", "message"),
+        [
+            (
+                {"emergency_decelerations_mps2": (Fraction(-1),)},
+                {},
+                "emergency_decelerations_mps2[0] = Fraction(-1, 1) is outside (0, 5] m/s^2",
+            ),
+            ({"t_be_s": Fraction(25)}, {}, "t_be_s = Fraction(25, 1) is outside [0, 20] s"),
+            ({"t_traction_s": Fraction(-1)}, {}, "t_traction_s = Fraction(-1, 1) is outside [0, 20] s"),
+            ({"kdry_rst": Fraction(0)}, {}, "kdry_rst = Fraction(0, 1) is outside (0, 1]"),
+            ({"service_speeds_mps": (Fraction(1),)}, {}, "service_speeds_mps[0] = Fraction(1, 1) is not 0"),
+            (
+                {"emergency_speeds_mps": (0, 10), "emergency_decelerations_mps2": (1,)},
+                {},
+                "emergency_speeds_mps = (0, 10) is not one speed per deceleration",
+            ),
+            ({}, {"t_driver_s": Fraction(1)}, "t_driver_s = Fraction(1, 1) is below t_warning_s"),
+            ({}, {"m_nvavadh": Fraction(2)}, "m_nvavadh = Fraction(2, 1) is outside [0, 1]"),
+        ],
+    )
+    def test_bad_data_named(self, train_changes, national_changes, message):
+        with pytest.raises(TrainDataError) as caught:
+            validate(dataclasses.replace(TRAIN, **train_changes), dataclasses.replace(NATIONAL, **national_changes))
+        assert message in str(caught.value)
+
+    def test_a_train_that_cannot_stop_on_the_gradient_is_refused(self):
+        weak = dataclasses.replace(TRAIN, emergency_decelerations_mps2=(Fraction(1, 5),))
+        steep = gradient_profile("gradient", [0, 100], [0, -40], 500)
+        with pytest.raises(TrainDataError, match=r"gradient_permille\[1\] = Fraction\(-40, 1\): the train cannot stop"):
+            check_braking_capability(weak, NATIONAL, steep)
+        check_braking_capability(TRAIN, NATIONAL, steep)
+
+
+speeds = st.integers(1, 40).map(Fraction)  # m/s
+
+
+@given(speed=speeds, target_m=st.integers(0, 5000))
+def test_ebd_on_level_track_is_the_closed_form(speed, target_m):
+    """Level track, one brake step: the EBD reaches v at v^2 / (2 K A) before the target."""
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(5000))
+    target = Target(Fraction(target_m), Fraction(0), Fraction(0))
+    a = adhesion_factor(EXACT, TRAIN, NATIONAL) * TRAIN.emergency_decelerations_mps2[0]
+    assert ebd_location_m(EXACT, TRAIN, NATIONAL, level, target, speed) == target_m - speed * speed / (2 * a)
+
+
+@given(speed=speeds, cut=st.integers(1, 4999), grads=st.tuples(st.integers(-40, 40), st.integers(-40, 40)))
+def test_ebd_speed_and_location_are_inverse(speed, cut, grads):
+    gradient = Profile((Fraction(0), Fraction(cut)), tuple(map(Fraction, grads)), Fraction(5000))
+    target = Target(Fraction(5000), Fraction(0), Fraction(1))
+    location = ebd_location_m(EXACT, TRAIN, NATIONAL, gradient, target, speed)
+    if speed > 1:
+        assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, gradient, target, location) == speed * speed
+
+
+def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
+    v = Fraction(80) / Fraction(36, 10)
+    loc = curve_locations(EXACT, TRAIN, NATIONAL, level, Target(Fraction(2000), Fraction(0), Fraction(0)), v, 0)
+    assert loc.indication_m < loc.permitted_m < loc.warning_m < loc.sbi_m < loc.ebi_m < loc.ebd_m < 2000
+    assert loc.sbi_m - loc.permitted_m == v * NATIONAL.t_driver_s
+    assert loc.ebi_m - loc.sbi_m == v * TRAIN.t_bs_s
+
+
+# --- proofs, and mutants that must be falsified -------------------------------------------------
+
+CURVE_PROPERTIES = select("curves.*")
+
+MUTANTS = {
+    # the indication curve at the permitted curve (atcs mutate's arith_drop at curve_locations:+14)
+    "spacing": [(curves.curve_locations, "permitted - speed_mps * n.t_indication_s", "permitted")],
+    "order": [(curves.curve_locations, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
+    "ebi_protects_ebd": [
+        # EBI without the brake build-up time
+        (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),
+        # the speed-measurement error ignored
+        (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
+    ],
+    "ebd_is_braking_curve": [
+        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+18)
+        (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
+        # the rotating masses swapped (cmp_flip at gradient_acceleration_mps2:+3)
+        (curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)"),
+    ],
+    "ebi_from_brake_build_up": [
+        # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows
+        (curves.bec_speed_and_distance, "o.max(zero, t.t_be_s - t.t_traction_s)", "o.max(zero, t.t_be_s)"),
+    ],
+}
+
+
+def _kind(prop):
+    return next(
+        prop.name.removeprefix("curves.").removesuffix(f"_{preset}")
+        for preset in CURVE_PRESETS
+        if prop.name.endswith(f"_{preset}")
+    )
+
+
+def test_every_curve_property_has_a_mutant():
+    assert {_kind(p) for p in CURVE_PROPERTIES} == set(MUTANTS)
+
+
+@pytest.mark.parametrize("prop", CURVE_PROPERTIES, ids=lambda p: p.name)
+def test_proved(prop, proof_suite_run):
+    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
+    assert (record["status"], record["engine"]) == ("proved", "k-induction"), record["message"]
+
+
+@pytest.mark.parametrize(
+    ("name", "mutant"),
+    [(p.name, m) for p in CURVE_PROPERTIES for m in MUTANTS[_kind(p)]],
+    ids=lambda v: v if isinstance(v, str) else v[1][:30],
+)
+def test_mutant_falsified_and_counterexample_replays(name, mutant):
+    prop = PROPERTIES[name]
+    function, old, new = mutant
+    with patched(function, old, new):
+        result = prove(prop, timeout_s=120)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    assert replay(prop, result.trace).first_violation is None
+
+
+def test_speed_steps_walked_in_order_on_the_stepped_brake():
+    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop at braking_walk:+19): the
+    one-step presets never leave the last step, the three-step design case does (CRV-08)."""
+    prop = PROPERTIES["curves.ebd_is_braking_curve_stepped"]
+    old, new = "o.min(speeds[step + 1] * speeds[step + 1]", "o.min(speeds[1] * speeds[step + 1]"
+    for name in ("curves.ebd_is_braking_curve_seed000", "curves.ebd_is_braking_curve_seed002"):
+        with patched(curves.braking_walk, old, new):
+            assert prove(PROPERTIES[name], timeout_s=120).status == "proved"
+    with patched(curves.braking_walk, old, new):
+        result = prove(prop, timeout_s=120)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    assert replay(prop, result.trace).first_violation is None

@@ -1,0 +1,615 @@
+"""The closed-loop simulator: scenarios are validated, the seed 000 runs reproduce the seed's outcomes,
+the checks catch a broken model, runs are deterministic, and ``atcs sim`` reports them."""
+
+import dataclasses
+import itertools
+import json
+from fractions import Fraction
+
+import pytest
+
+from atcs.model.authority import AUTHORITY
+from atcs.proofs.cli import main
+from atcs.proofs.mutation.mutants import mutant_node
+from atcs.sim import simulator
+from atcs.sim.monitor import PropertyViolation
+from atcs.sim.plots import run_plots
+from atcs.sim.scenario import ScenarioError, load_scenario, resolve, shipped
+from atcs.sim.simulator import Simulation
+from atcs.sim.train_run import SafetyViolation
+
+ZONE_IGNORED = mutant_node(
+    AUTHORITY, "zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))", "zone = o.const(FAR_M)"
+)
+"""The authority node with the protection zone ignored."""
+SEED000 = ("seed000_normal", "seed000_service_brake_disabled", "seed000_slow_leader", "seed000_protection_zone")
+SEED002 = ("seed002_speed_restriction", "seed002_protection_zone")
+FAULT_LINE = """name = "faults"
+seed = "000 §2.5"
+duration_s = {duration_s}
+cycle_s = 0.1
+[line]
+length_m = 6000
+tag_spacing_m = 100
+resource_length_m = 100
+max_ma_m = 1500
+[atp]
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 2.5
+tacho_error = 0.01
+stop_tolerance_m = 3
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+{line}
+[[trains]]
+name = "T1"
+front_m = 1500
+max_speed_kmh = 60
+eb_release_after_stop_s = 5
+{leader}
+[[trains]]
+name = "T2"
+front_m = 1000
+max_speed_kmh = 80
+"""
+"""A short two-train line for fault injection: the leader (60 km/h) carries the faults, its follower runs at up to
+80 km/h behind it."""
+STATION = """
+[[stations]]
+name = "S1"
+stop_m = 2410
+dwell_s = 20
+[platforms]
+table = [{ start_m = 2195, length_m = 220, side = "left" }]
+"""
+
+LOOP = """name = "loop"
+seed = "002 §4.2"
+duration_s = {duration_s}
+cycle_s = 0.1
+[line]
+length_m = 1600
+double_track = true
+turn_back_m = 200
+turn_back_kmh = 25
+wayside_zone_boundaries_m = [800]
+tag_spacing_m = 100
+resource_length_m = 100
+max_ma_m = 1500
+[atp]
+national = "seed002"
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 2.5
+tacho_error = 0.01
+stop_tolerance_m = 3
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+speed_margin_kmh = 5
+[[stations]]
+name = "S1"
+stop_m = 1110
+dwell_s = 10
+[platforms]
+table = [{{ start_m = 895, length_m = 220, side = "left" }}]
+{extra}
+[[trains]]
+name = "A"
+preset = "seed002"
+track = "down"
+front_m = 200
+max_speed_kmh = 80
+[[trains]]
+name = "B"
+preset = "seed002"
+track = "up"
+front_m = 700
+max_speed_kmh = 80
+depart_s = 40
+"""
+"""A 1.6 km double track (a loop of 3,600 m): A is near the down track's end, 900 m behind B round the near
+turn-back; B waits 40 s at 700 m on the up track, then runs to S1, round the far turn-back and to S1's mirror."""
+
+
+def _run(scenario):
+    records = []
+    sim = Simulation(scenario, on_cycle=lambda s: records.append([dict(t.last) for t in s.trains]))
+    return sim.run(), records
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """Each seed 000 and seed 002 two-train scenario run once to its end, with its per-cycle records."""
+    return {name: _run(load_scenario(resolve(name))) for name in (*SEED000, *SEED002)}
+
+
+def _fault_run(tmp_path, leader="", line="", duration_s=60):
+    path = tmp_path / "faults.toml"
+    path.write_text(FAULT_LINE.format(leader=leader, line=line, duration_s=duration_s))
+    return _run(load_scenario(path))
+
+
+def _assert_refused(tmp_path, text, change, message):
+    """The scenario ``text`` with ``change`` (old, new) made is refused, the error naming the file and ``message``."""
+    old, new = change
+    assert old in text
+    path = tmp_path / "bad.toml"
+    path.write_text(text.replace(old, new, 1))
+    with pytest.raises(ScenarioError) as caught:
+        load_scenario(path)
+    assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+
+def _train(sim, name):
+    return next(t for t in sim.trains if t.spec.name == name)
+
+
+class TestScenarios:
+    def test_every_shipped_scenario_loads(self):
+        names = set(shipped())
+        assert set(SEED000) <= names
+        for name, path in shipped().items():
+            scenario = load_scenario(path)
+            assert scenario.name == name and scenario.seed.startswith(name[4:7])
+
+    def test_the_seed000_line(self):
+        s = load_scenario(resolve("seed000_normal"))
+        assert (s.line_m, s.tag_spacing_m, len(s.trains), s.trains[0].data.train_length_m) == (15000, 100, 2, 200)
+        assert [str(x) for x in (s.trains[0].max_speed_kmh, s.speed_limits_kmh[0].value)] == ["80", "80"]
+
+    @pytest.mark.parametrize(
+        ("change", "message"),
+        [
+            (("duration_s = 320", "duration_s = -1"), "duration_s = -1 must be positive"),
+            (("tag_spacing_m = 100", "tag_spacing_m = 'x'"), "line.tag_spacing_m = 'x' is not a number"),
+            (("tacho_error = 0.01", "tacho_error = 1.5"), "atp.tacho_error = 1.5 must be below 1"),
+            (('mode = "relative_braking"', 'mode = "moving_block"'), "atp.mode = 'moving_block' must be one of"),
+            (("front_m = 11000", "front_m = 11050"), "trains[0].front_m = 11050 must be on a tag"),
+            (("front_m = 10000", "front_m = 10900"), "trains[1].front_m = 10900 must be behind the rear of T1"),
+            (("max_speed_kmh = 80\n\n", "max_speed_kmh = 80\ncolour = 'red'\n\n"), "trains[0].colour: unknown field"),
+            (('preset = "seed000"', 'preset = "seed009"'), "trains[0].preset = 'seed009' must be one of"),
+            (("[ato]", "[ato"), "not valid TOML"),
+            (("[ato]", "[ato_]"), "ato_: unknown field"),
+            (("max_ma_m = 1500", "max_ma_m = 0"), "line.max_ma_m = 0 must be positive"),
+            (
+                ("speed_limits = [{ start_m = 0, kmh = 80 }]", "speed_limits = [{ start_m = 5, kmh = 80 }]"),
+                "line.speed_limits[0].start_m = 5 must be 0 for the first segment",
+            ),
+        ],
+    )
+    def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
+        _assert_refused(tmp_path, shipped()["seed000_normal"].read_text(), change, message)
+
+    def test_fault_kinds_and_zones_are_checked(self, tmp_path):
+        text = shipped()["seed000_service_brake_disabled"].read_text()
+        for old, new, message in [
+            ('kind = "ignores_service_brake"', 'kind = "wet_rail"', "faults[0].kind = 'wet_rail' must be one of"),
+            ("until_s = 150", "until_s = 0", "faults[0].until_s = 0 must be after from_s"),
+            ("start_m = 4000", "start_m = 16000", "zones[0].start_m = 16000 must be on the line"),
+        ]:
+            path = tmp_path / "bad.toml"
+            path.write_text(text.replace(old, new, 1))
+            with pytest.raises(ScenarioError, match=message.replace("[", r"\[").replace("]", r"\]")):
+                load_scenario(path)
+
+    def test_platforms_are_read_through_the_platform_data_loader(self, tmp_path):
+        text = shipped()["seed000_protection_zone"].read_text()
+        path = tmp_path / "with_platforms.toml"
+        path.write_text(text + '\n[platforms]\npacket = "4540ce803200fa74212c007d38"\nreference_m = 4500\n')
+        assert [(p.start_m, p.side) for p in load_scenario(path).platforms] == [(4600, "right"), (5800, "left")]
+        path.write_text(text + '\n[platforms]\npacket = "4540ce803200fa74212c007d3f"\nreference_m = 4500\n')
+        with pytest.raises(ScenarioError, match=r"Q_PLATFORM\(1\) at bit 101"):
+            load_scenario(path)
+
+    def test_unknown_scenario_name(self):
+        with pytest.raises(ScenarioError, match="nor a shipped scenario"):
+            resolve("seed000_nosuch")
+
+
+class TestSeed000Outcomes:
+    """Seed 000 §2.5: the four runs of the integrated simulation."""
+
+    def test_normal_running_without_intervention(self, runs):
+        sim, _ = runs["seed000_normal"]
+        t1, t2 = sim.trains
+        for t in sim.trains:  # the ATO follows the permitted curve: the ATP never intervenes
+            assert (t.stats.emergency_brakes, t.stats.service_brakes) == (0, 0), t.spec.name
+            assert t.stats.max_speed_kmh > 79 and t.speed_mps == 0
+        assert 14950 < t1.front_m < 15000  # stopped before the end of the line
+        assert t2.stats.min_gap_m > 0 and t2.front_m < t1.front_m - 200
+
+    def test_service_brake_disabled_reaches_ebi_then_eb_stops_and_restarts(self, runs):
+        sim, records = runs["seed000_service_brake_disabled"]
+        (train,) = sim.trains
+        assert train.stats.emergency_brakes == 1 and train.stats.service_brakes == 1  # SBI passed, then EBI
+        first_eb = next(k for k, (r,) in enumerate(records) if r["eb"] and r["t_s"] > 1)
+        stop = next(k for k in range(first_eb, len(records)) if records[k][0]["speed_kmh"] == 0)
+        assert records[stop][0]["front_m"] < 4000 and records[stop][0]["eb"]  # stopped short of the zone
+        released = next(k for k in range(stop, len(records)) if not records[k][0]["eb"])
+        assert records[released][0]["t_s"] - records[stop][0]["t_s"] >= 5  # the driver's release at standstill
+        assert train.front_m > 4000 and train.speed_mps > 0  # restarted and running once the zone is lifted
+
+    def test_follower_follows_a_slow_leader_without_collision(self, runs):
+        sim, records = runs["seed000_slow_leader"]
+        leader, follower = sim.trains
+        assert leader.stats.max_speed_kmh <= 40 and follower.stats.max_speed_kmh > 60
+        assert follower.stats.min_gap_m > 0
+        gaps = [r[0]["front_m"] - 200 - r[1]["front_m"] for r in records]
+        assert gaps[-1] < gaps[0] / 2  # it caught up, and keeps behind
+        late = [r[1]["speed_kmh"] for r in records[-600:]]
+        assert 30 < sum(late) / len(late) < 50  # at about the leader's 40 km/h
+        assert follower.stats.emergency_brakes == 0
+
+    def test_train_stops_before_the_protection_zone(self, runs):
+        sim, _ = runs["seed000_protection_zone"]
+        (train,) = sim.trains
+        assert 4950 < train.front_m < 5000 and train.speed_mps == 0
+        assert (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+
+
+class TestSeed002Outcomes:
+    """Seed 002 §4.2 (Table 1: 56.8 km, tags every 200 m, MA at most 1.5 km, full service 3.5 and EB 4.5 km/h/s)."""
+
+    def test_temporary_restriction_is_run_at_about_25_kmh_and_the_followers_ma_shrinks(self, runs):
+        sim, records = runs["seed002_speed_restriction"]
+        for k, train in enumerate(sim.trains):
+            inside = [r[k]["speed_kmh"] for r in records if r[k]["front_m"] - 200 >= 4000 and r[k]["front_m"] <= 5000]
+            assert inside and min(inside) > 23 and max(inside) < 26, train.spec.name  # the whole train inside
+            assert (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+        ma = [r[1]["eoa_m"] - r[1]["front_m"] for r in records]
+        before = min(ma[300:900])  # at line speed, before the ATS sets the restriction
+        assert min(ma[1200:3000]) < before / 3  # the leader slowed down: the follower's MA shrank
+        assert sim.trains[1].stats.min_gap_m > 0
+
+    def test_protection_zone_leader_before_4600_follower_behind_it(self, runs):
+        sim, _ = runs["seed002_protection_zone"]
+        leader, follower = sim.trains
+        assert 4550 < leader.front_m < 4600 and leader.speed_mps == 0
+        # the seed: about 4,400 m; here the follower's MA ends where the 100 m resource holding the leader's
+        # rear (4,383.9 m) begins, 4,300 m
+        assert 4250 < follower.front_m < 4300 and follower.speed_mps == 0
+        assert all(t.stats.emergency_brakes == 0 for t in sim.trains)
+
+
+class TestDoubleTrack:
+    """Seed 002 §4.2: the double track with a turn-back at each end, as one closed track (sim/double_track.py), and
+    its two wayside zones."""
+
+    def test_the_shipped_timetable_is_a_steady_service_round_the_loop(self):
+        s = load_scenario(resolve("seed002_timetable"))
+        layout = s.double_track
+        assert (layout.length_m, layout.turn_back_m, layout.zones, s.line_m) == (56800, 400, 2, 114400)
+        assert len(s.trains) >= 20 and s.duration_s == 3600 and all(t.depart_s == 0 for t in s.trains)
+        assert len(s.stations) == 20 and s.stations[10].name == "S10 (down)"  # both tracks serve the ten stations
+        fronts = [t.front_m for t in s.trains]
+        assert fronts == sorted(fronts, reverse=True)  # from the front: the last is the front train's leader
+        assert {layout.place(x)[0] for x in fronts} == {"up", "down"}
+
+    def test_the_shipped_timetable_first_stops_on_both_tracks(self):
+        s = load_scenario(resolve("seed002_timetable"))
+        names = ("T2", "T11")  # 2 km from S1 on the up track, 400 m from S10 on the down track
+        first = dataclasses.replace(s, trains=tuple(t for t in s.trains if t.name in names), duration_s=Fraction(170))
+        sim, records = _run(first)
+        stops = [float(station.stop_m) for station in s.stations]
+        for k, train in enumerate(sim.trains):
+            assert train.stats.station_stops == 1, train.spec.name
+            opened = [r[k] for r in records if r[k]["doors_open"]]
+            assert opened and all(r["speed_kmh"] == 0 for r in opened)  # doors open only at standstill
+            assert all(min(abs(r["front_m"] - x) for x in stops) < float(s.stop_tolerance_m) for r in opened)
+            assert 300 <= len(opened) <= 302  # the 30 s dwell from the doors opening
+            assert train.stats.emergency_brakes == 0 and train.stats.service_brakes == 0
+        assert {r[k]["track"] for r in records for k in range(2) if r[k]["doors_open"]} == {"up", "down"}
+
+    def test_trains_run_round_both_turn_backs_and_the_front_train_follows_the_last(self, tmp_path):
+        path = tmp_path / "loop.toml"
+        path.write_text(LOOP.format(duration_s=295, extra=""))
+        sim, records = _run(load_scenario(path))
+        a, b = sim.trains
+        loop_m = float(sim.scenario.line_m)
+        assert (a.spec.name, b.spec.name) == ("A", "B")  # A is the front train, B its leader a lap on
+        # A is held behind B across the near turn-back: its MA ends short of B's rear, a lap on
+        waiting = [r for r in records if r[0]["t_s"] < 40]
+        assert all(r[0]["eoa_m"] <= 500 + loop_m for r in waiting)
+        assert max(r[0]["eoa_m"] for r in waiting) > loop_m  # it reaches round the turn-back
+        assert a.front_m > loop_m and a.stats.min_gap_m > 0  # A went round onto the up track behind B
+        # B stopped at S1, went round the far turn-back and opened its doors at S1's mirror on the down track
+        assert b.stats.station_stops >= 1 and b.next_station == b.stats.station_stops
+        assert {r[1]["track"] for r in records if r[1]["doors_open"]} == {"up", "down"}
+        assert {r[1]["track"] for r in records} >= {"up", "turn-back", "down"}
+        assert all(t.stats.emergency_brakes == 0 and t.stats.service_brakes == 0 for t in sim.trains)
+        paths = run_plots(sim, records, tmp_path / "plots", sample_every_s=10)  # time-distance: a train graph
+        assert sorted(p.name for p in paths) == ["A_speed_distance.png", "B_speed_distance.png", "time_distance.png"]
+        assert all(p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for p in paths)
+
+    def test_a_zone_outage_stops_only_that_zones_grants(self, tmp_path):
+        path = tmp_path / "loop.toml"
+        path.write_text(LOOP.format(duration_s=40, extra="[[manager_outages]]\nzone = 2\nfrom_s = 0\nuntil_s = 20"))
+        sim = Simulation(load_scenario(path))
+        zone = sim.resource_zone
+        while sim.time_s < 20:
+            sim.step()
+        held = sim.held[1]  # B, at 700 m on the up track: its MA reaches into zone 2 (from 800 m)
+        assert any(h and zone[r] == 1 for r, h in enumerate(held))
+        assert not any(h and zone[r] == 2 for r, h in enumerate(held))
+        while sim.time_s < 40:
+            sim.step()
+        assert any(h and zone[r] == 2 for r, h in enumerate(sim.held[1]))
+
+    @pytest.mark.parametrize(
+        ("change", "message"),
+        [
+            (
+                ('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 100'),
+                "trains[0].front_m = 100 must put the whole train on the loop",
+            ),
+            (("front_m = 700", "front_m = 750"), "trains[1].front_m = 750 must be on a tag"),
+            (
+                ('track = "down"\nfront_m = 200', 'track = "up"\nfront_m = 900'),
+                "trains: B (front at 700 m round the loop) overlaps A (rear at 700 m)",
+            ),
+            (('track = "down"', 'track = "side"'), "trains[0].track = 'side' must be one of up, down"),
+            (
+                ("turn_back_m = 200", "turn_back_m = 250"),
+                "line.turn_back_m = 250 must be a multiple of line.tag_spacing_m",
+            ),
+            (
+                ("wayside_zone_boundaries_m = [800]", "wayside_zone_boundaries_m = [2500]"),
+                "line.wayside_zone_boundaries_m[0] = 2500 must lie inside the line",
+            ),
+            (("turn_back_kmh = 25\n", ""), "line.turn_back_kmh is missing"),
+            (("double_track = true", "double_track = 1"), "line.double_track = 1 must be true or false"),
+            (("double_track = true", "double_track = false"), "line.turn_back_m = 200 needs line.double_track = true"),
+            (("stop_m = 1110", "stop_m = 1300"), "stations[0].stop_m = 1300: no platform of [platforms] contains it"),
+        ],
+    )
+    def test_errors_name_the_file_the_field_and_the_value(self, tmp_path, change, message):
+        _assert_refused(tmp_path, LOOP.format(duration_s=10, extra=""), change, message)
+
+    def test_outage_zones_and_tracks_are_checked(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(LOOP.format(duration_s=10, extra="[[manager_outages]]\nzone = 3"))
+        with pytest.raises(ScenarioError, match=r"manager_outages\[0\].zone = 3 must be a wayside zone"):
+            load_scenario(path)
+        path.write_text(FAULT_LINE.format(leader='track = "up"', line="", duration_s=10))
+        with pytest.raises(ScenarioError, match=r"trains\[0\].track: unknown field"):
+            load_scenario(path)
+
+
+class TestReferenceProfile:
+    """The ATO tracking the minimum-time profile (cvxpy, Clarabel) from stop to stop: the ATP never intervenes, and
+    each stretch takes about the profile's optimal running time."""
+
+    def test_the_atp_never_intervenes_and_the_stretches_take_the_optimal_time(self):
+        scenario = load_scenario(resolve("seed002_optimal_profile"))
+        assert scenario.ato_reference_profile
+        sim, records = _run(scenario)
+        (train,) = sim.trains
+        assert train.stats.station_stops == 2 and (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+        assert not any(r[0]["eb"] or r[0]["sb"] for r in records[5:])  # past the power-up EB: no intervention
+        assert [p.positions_m[-1] for p in train.references] == [8810, 14010, 19210]
+        departures = [0.0] + [
+            r[0]["t_s"] for a, r in itertools.pairwise(records) if a[0]["doors_open"] and not r[0]["doors_open"]
+        ]
+        arrivals = [
+            r[0]["t_s"] for a, r in itertools.pairwise(records) if r[0]["doors_open"] and not a[0]["doors_open"]
+        ]
+        for profile, left, arrived in zip(train.references, departures, arrivals, strict=False):
+            assert profile.solver_status == "optimal"
+            # tracking overshoots by a few cm/s, and the doors open a cycle or two after the stop
+            assert abs(arrived - left - profile.running_time_s) <= profile.running_time_s * 0.01 + 1.0
+
+    def test_needs_stations(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(
+            FAULT_LINE.format(leader="", line="", duration_s=10).replace(
+                "margin_m = 30", "margin_m = 30\nreference_profile = true"
+            )
+        )
+        with pytest.raises(ScenarioError, match=r"ato\.reference_profile = true needs"):
+            load_scenario(path)
+
+
+class TestFaults:
+    """Each fault the scenarios can inject, and the ATP's safe reaction; no property is violated (a violation
+    would raise)."""
+
+    @pytest.mark.parametrize(
+        "fault",
+        [
+            '{ kind = "missed_tag", from_s = 20, until_s = 40 }',
+            '{ kind = "spurious_tag", from_s = 30, until_s = 30.1 }',
+            '{ kind = "tacho_drift", factor = 1.1, from_s = 0 }',
+        ],
+    )
+    def test_a_position_fault_gives_an_emergency_brake(self, tmp_path, fault):
+        sim, records = _fault_run(tmp_path, leader=f"faults = [{fault}]")
+        leader = sim.trains[0]
+        assert leader.stats.emergency_brakes >= 1
+        assert any(not r[0]["position_valid"] and r[0]["eb"] for r in records)  # the position is lost: EB
+        assert sim.trains[1].stats.min_gap_m > 0
+
+    def test_a_slide_while_braking_is_caught(self, tmp_path):
+        sim, records = _fault_run(
+            tmp_path,
+            line="[[zones]]\nstart_m = 2200\nfrom_s = 0",
+            leader='faults = [{ kind = "tacho_slide", factor = 0.5, from_s = 0 }]',
+        )
+        first_brake = next(
+            k for k, r in enumerate(records) if r[0]["speed_kmh"] > 0 and not r[0]["traction"] and k > 100
+        )
+        assert not all(r[0]["position_valid"] for r in records[first_brake:])  # implausible tachometer
+        assert sim.trains[0].stats.emergency_brakes >= 1 and sim.trains[0].front_m < 2200
+
+    def test_drift_within_the_tachometer_error_keeps_the_true_front_in_the_interval(self, tmp_path):
+        sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "tacho_drift", factor = 1.009, from_s = 0 }]')
+        assert sim.trains[0].stats.emergency_brakes == 0
+        # each cycle's interval is about the front at the cycle's start: the previous cycle's end
+        assert all(
+            r[0]["front_min_m"] <= before[0]["front_m"] <= r[0]["front_max_m"]
+            for before, r in itertools.pairwise(records)
+        )
+
+    @pytest.mark.parametrize("fault", ['faults = [{ kind = "t2t_loss", from_s = 30, until_s = 60 }]', ""])
+    def test_lost_reports_shorten_the_followers_ma(self, tmp_path, fault):
+        sim, records = _fault_run(tmp_path, leader=fault)
+        ma_m = [r[1]["eoa_m"] - r[1]["front_m"] for r in records[300:600]]
+        if fault:  # no report: the MA ends behind the leader's last reported rear, and the follower slows down
+            assert min(ma_m) < 100 and sim.trains[1].stats.min_gap_m > 0
+            assert records[550][1]["speed_kmh"] < records[300][1]["speed_kmh"] / 2
+        else:
+            assert min(ma_m) > 200  # the same run with the reports: the MA stays long
+
+    def test_delayed_reports_are_still_safe(self, tmp_path):
+        sim, _records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_delay", delay_s = 1, from_s = 0 }]')
+        assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
+
+    def test_a_manager_outage_grants_nothing_and_the_mas_stop_growing(self, tmp_path):
+        path = tmp_path / "outage.toml"
+        path.write_text(
+            FAULT_LINE.format(leader="", line="[[manager_outages]]\nfrom_s = 30\nuntil_s = 60", duration_s=70)
+        )
+        sim = Simulation(load_scenario(path))
+        while sim.time_s < 30:
+            sim.step()
+        ends = sim.resource_floats[1]
+        held = [{r for r, h in enumerate(row) if h} for row in sim.held]
+        while sim.time_s < 60:
+            sim.step()
+            for k, train in enumerate(sim.trains):
+                now = {r for r, h in enumerate(sim.held[k]) if h}
+                assert now <= held[k]  # no grant in the outage
+                assert train.last["eoa_m"] <= ends[max(held[k])]
+        while sim.time_s < 70:
+            sim.step()
+        assert any({r for r, h in enumerate(row) if h} - before for row, before in zip(sim.held, held, strict=True))
+
+    def test_a_stuck_door_holds_the_train(self, tmp_path):
+        door = 'faults = [{ kind = "stuck_door", from_s = 90, until_s = 120 }]'
+        _, records = _fault_run(tmp_path, line=STATION, leader=door, duration_s=125)
+        opened = [r[0] for r in records if r[0]["doors_open"]]
+        assert opened[0]["front_m"] == pytest.approx(2410, abs=0.5) and opened[0]["t_s"] < 90
+        assert opened[0]["t_s"] + 20 < 105  # the dwell (20 s) ended before 105 s, the obstacle holds the doors
+        assert opened[-1]["t_s"] == pytest.approx(119.9, abs=0.15)  # closed once the obstacle is gone
+        assert all(r["speed_kmh"] == 0 and not r["traction"] for r in opened)
+        assert records[-1][0]["speed_kmh"] > 0  # and the train departed
+
+    @pytest.mark.parametrize(
+        ("line", "message"),
+        [
+            (
+                STATION.replace("stop_m = 2410", "stop_m = 3000"),
+                "stations[0].stop_m = 3000: no platform of [platforms]",
+            ),
+            (STATION.replace("dwell_s = 20", "dwell_s = -1"), "stations[0].dwell_s = -1 must be at least 0"),
+            ("[[restrictions]]\nstart_m = 500\nend_m = 400\nkmh = 30", "restrictions[0].end_m = 400 must lie after"),
+            ("[[restrictions]]\nstart_m = 500\nend_m = 900\nkmh = 0", "restrictions[0].kmh = 0 must be positive"),
+            ("[[manager_outages]]\nfrom_s = 30\nuntil_s = 10", "manager_outages[0].until_s = 10 must be after"),
+        ],
+    )
+    def test_stations_restrictions_and_outages_are_checked(self, tmp_path, line, message):
+        path = tmp_path / "bad.toml"
+        path.write_text(FAULT_LINE.format(leader="", line=line, duration_s=10))
+        with pytest.raises(ScenarioError) as caught:
+            load_scenario(path)
+        assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+    def test_a_stop_tolerance_within_the_tag_window_is_refused(self, tmp_path):
+        path = tmp_path / "bad.toml"
+        path.write_text(
+            FAULT_LINE.format(leader="", line=STATION, duration_s=10).replace(
+                "stop_tolerance_m = 3", "stop_tolerance_m = 2"
+            )
+        )
+        with pytest.raises(ScenarioError, match=r"atp\.stop_tolerance_m = 2 must exceed atp\.tag_window_m = 5/2"):
+            load_scenario(path)
+
+    def test_fault_fields_are_checked(self, tmp_path):
+        for fault, message in [
+            ('{ kind = "tacho_drift", from_s = 0 }', "faults[0].factor is missing"),
+            ('{ kind = "tacho_drift", factor = 0, from_s = 0 }', "faults[0].factor = 0 must be positive"),
+            ('{ kind = "missed_tag", factor = 2 }', "faults[0].factor: unknown field"),
+        ]:
+            path = tmp_path / "bad.toml"
+            path.write_text(FAULT_LINE.format(leader=f"faults = [{fault}]", line="", duration_s=10))
+            with pytest.raises(ScenarioError, match=message.replace("[", r"\[").replace("]", r"\]")):
+                load_scenario(path)
+
+
+class TestChecks:
+    def test_an_authority_that_ignores_the_zone_is_caught(self, monkeypatch):
+        monkeypatch.setattr(simulator, "AUTHORITY", ZONE_IGNORED)
+        with pytest.raises(PropertyViolation) as caught:
+            Simulation(load_scenario(resolve("seed000_protection_zone"))).run()
+        assert caught.value.prop.name == "authority.before_protection_zone"
+
+    def test_the_zone_check_itself(self):
+        scenario = load_scenario(resolve("seed000_protection_zone"))
+        sim = Simulation(scenario)
+        sim.trains[0].front_m, sim.trains[0].last_distance_m = 5000.5, 1.0
+        with pytest.raises(SafetyViolation, match="entered the protection zone at 5000 m"):
+            sim._check()
+        with pytest.raises(SafetyViolation, match=r"true front 5000.500 m is outside the position interval"):
+            sim.step()
+
+    def test_runs_are_deterministic(self, runs):
+        _, records = runs["seed000_slow_leader"]
+        again = []
+        sim = Simulation(
+            load_scenario(resolve("seed000_slow_leader")),
+            on_cycle=lambda s: again.append([dict(t.last) for t in s.trains]),
+        )
+        for _ in range(600):
+            sim.step()
+        assert again == records[:600]
+
+
+class TestCommandLine:
+    def test_summary_and_csv_trace(self, tmp_path, capsys):
+        trace = tmp_path / "t.csv"
+        assert main(["sim", "seed000_protection_zone", "--trace", str(trace)]) == 0
+        text = capsys.readouterr().out
+        assert "no violation" in text and "4982.4" in text
+        lines = trace.read_text().splitlines()
+        assert lines[0].startswith("train,t_s,front_m,speed_kmh") and len(lines) == 1 + 2500
+
+    def test_jsonl_trace_and_violation_exit_code(self, tmp_path, capsys, monkeypatch):
+        trace = tmp_path / "t.jsonl"
+        monkeypatch.setattr(simulator, "AUTHORITY", ZONE_IGNORED)
+        assert main(["sim", "seed000_protection_zone", "--trace", str(trace)]) == 1
+        assert "violation:" in capsys.readouterr().out
+        rows = [json.loads(line) for line in trace.read_text().splitlines()]
+        assert rows and rows[0]["train"] == "T1"
+
+    def test_a_violation_without_trace_writes_the_last_cycles(self, tmp_path, capsys, monkeypatch):
+        monkeypatch.chdir(tmp_path)
+        monkeypatch.setattr(simulator, "AUTHORITY", ZONE_IGNORED)
+        assert main(["sim", "seed000_protection_zone"]) == 1
+        text = capsys.readouterr().out
+        assert "authority.before_protection_zone" in text and "seed000_protection_zone_violation.csv" in text
+        lines = (tmp_path / "seed000_protection_zone_violation.csv").read_text().splitlines()
+        assert lines[0].startswith("train,t_s,front_m") and len(lines) == 1 + 600
+
+    def test_plots(self, tmp_path, capsys):
+        out = tmp_path / "plots"
+        assert main(["sim", "seed000_protection_zone", "--plot", str(out)]) == 0
+        files = sorted(p.name for p in out.iterdir())
+        assert files == ["T1_speed_distance.png", "time_distance.png"]
+        assert all((out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" for f in files)
+        assert f"plot: {out / 'time_distance.png'}" in capsys.readouterr().out
+
+    @pytest.mark.parametrize(
+        ("argv", "message"),
+        [
+            (["sim", "seed000_nosuch"], "nor a shipped scenario"),
+            (["sim", "seed000_normal", "--trace", "t.txt"], "must end in .csv or .jsonl"),
+            (["sim", "seed000_normal", "--trace", "/nonexistent/t.csv"], "does not exist"),
+            (["sim", "seed000_normal", "--plot", "/dev/null"], "exists and is not a directory"),
+        ],
+    )
+    def test_bad_input_is_one_line_and_exit_2(self, argv, message, capsys):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert message in err and err.count("\n") == 1
