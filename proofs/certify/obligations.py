@@ -170,7 +170,7 @@ def check_obligation(
 def _z3(script: str, timeout_s: float) -> tuple[str, str]:
     ctx = z3.Context()
     assertions = z3.parse_smt2_string(script, ctx=ctx)
-    # the preprocessing the engine's solver uses (proofs/bmc.py), on the parsed script
+    # the preprocessing the engine's solver uses (proofs/engine/bmc.py), on the parsed script
     solver = z3.Then("simplify", "propagate-values", "solve-eqs", "elim-term-ite", "smt", ctx=ctx).solver()
     solver.set("timeout", max(1, int(timeout_s * 1000)))
     solver.add(assertions)
