@@ -143,6 +143,11 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
         if extra:
             raise PlatformDataError(f"{where}: {extra[0]} belongs to a packet; a table's positions are line positions")
         return _table(section["table"], where)
+    return _packet(section, where)
+
+
+def _packet(section: Mapping, where: str) -> tuple[Platform, ...]:
+    """The platforms of the packet form of ``[platforms]``: a hex packet and the reference_m it was read at."""
     raw, direction = section["packet"], section.get("direction", "nominal")
     if not isinstance(raw, str):
         raise PlatformDataError(f"{where}: packet = {raw!r} must be a hex string")
@@ -170,35 +175,34 @@ def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
 def _table(rows, where: str) -> tuple[Platform, ...]:
     if not isinstance(rows, list):
         raise PlatformDataError(f"{where}: table = {rows!r} must be a list of [[platforms.table]] entries")
-    platforms = []
-    for k, row in enumerate(rows):
-        entry = f"{where} table[{k}]"
-        if not isinstance(row, Mapping):
-            raise PlatformDataError(f"{entry} must be a table, got {row!r}")
-        unknown = sorted(set(row) - {"start_m", "length_m", "side", "height_mm"})
-        if unknown:
-            raise PlatformDataError(
-                f"{entry}: unknown field {unknown[0]!r} (fields: start_m, length_m, side, height_mm)"
-            )
-        for key in ("start_m", "length_m", "side"):
-            if key not in row:
-                raise PlatformDataError(f"{entry}: {key} is missing")
-        start = parse_number(entry, "start_m", row["start_m"], PlatformDataError)
-        length = parse_number(entry, "length_m", row["length_m"], PlatformDataError)
-        if start < 0:
-            raise PlatformDataError(f"{entry}: start_m = {row['start_m']!r} is negative")
-        if length <= 0:
-            raise PlatformDataError(f"{entry}: length_m = {row['length_m']!r} must be positive")
-        if row["side"] not in SIDES:
-            raise PlatformDataError(f"{entry}: side = {row['side']!r} must be one of {', '.join(SIDES)}")
-        height = row.get("height_mm")
-        if height is not None and (type(height) is not int or height not in M_PLATFORM_MM.values()):
-            raise PlatformDataError(
-                f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
-                f"({', '.join(map(str, M_PLATFORM_MM.values()))})"
-            )
-        platforms.append(Platform(start, start + length, row["side"], height))
-    return tuple(platforms)
+    return tuple(_table_row(row, f"{where} table[{k}]") for k, row in enumerate(rows))
+
+
+def _table_row(row, entry: str) -> Platform:
+    """One entry of the table form of ``[platforms]``: start_m, length_m, side and an optional height_mm."""
+    if not isinstance(row, Mapping):
+        raise PlatformDataError(f"{entry} must be a table, got {row!r}")
+    unknown = sorted(set(row) - {"start_m", "length_m", "side", "height_mm"})
+    if unknown:
+        raise PlatformDataError(f"{entry}: unknown field {unknown[0]!r} (fields: start_m, length_m, side, height_mm)")
+    for key in ("start_m", "length_m", "side"):
+        if key not in row:
+            raise PlatformDataError(f"{entry}: {key} is missing")
+    start = parse_number(entry, "start_m", row["start_m"], PlatformDataError)
+    length = parse_number(entry, "length_m", row["length_m"], PlatformDataError)
+    if start < 0:
+        raise PlatformDataError(f"{entry}: start_m = {row['start_m']!r} is negative")
+    if length <= 0:
+        raise PlatformDataError(f"{entry}: length_m = {row['length_m']!r} must be positive")
+    if row["side"] not in SIDES:
+        raise PlatformDataError(f"{entry}: side = {row['side']!r} must be one of {', '.join(SIDES)}")
+    height = row.get("height_mm")
+    if height is not None and (type(height) is not int or height not in M_PLATFORM_MM.values()):
+        raise PlatformDataError(
+            f"{entry}: height_mm = {height!r} is not a height packet 69 can give "
+            f"({', '.join(map(str, M_PLATFORM_MM.values()))})"
+        )
+    return Platform(start, start + length, row["side"], height)
 
 
 def read_platform_data(path: str | Path) -> tuple[Platform, ...]:

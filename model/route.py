@@ -103,6 +103,12 @@ def _resource(where: str, k: int, entry, ids: dict[int, int], previous: Resource
     kind = entry["kind"]
     if kind not in KINDS:
         raise RouteError(f"{where}: kind = {kind!r} is not one of {', '.join(KINDS)}")
+    start, end = _extent(where, k, entry, previous)
+    return Resource(raw_id, kind, start, end, _direction(where, kind, entry))
+
+
+def _extent(where: str, k: int, entry: Mapping, previous: Resource | None) -> tuple[Fraction, Fraction]:
+    """The start and end of resource ``k``: the first starts at or after 0, each other where the ``previous`` ends."""
     start, end = _number(where, "start_m", entry["start_m"]), _number(where, "end_m", entry["end_m"])
     if previous is None and start < 0:
         raise RouteError(f"{where}: start_m = {entry['start_m']!r} is negative")
@@ -113,12 +119,17 @@ def _resource(where: str, k: int, entry, ids: dict[int, int], previous: Resource
         )
     if end <= start:
         raise RouteError(f"{where}: end_m = {entry['end_m']!r} is not after start_m = {entry['start_m']!r}")
+    return start, end
+
+
+def _direction(where: str, kind: str, entry: Mapping) -> str | None:
+    """A resource's direction: a switch's is 'normal' or 'reverse', a track has none."""
     direction = entry.get("direction")
     if kind == "switch" and direction not in DIRECTIONS:
         raise RouteError(f"{where}: a switch needs direction = 'normal' or 'reverse', got {direction!r}")
     if kind == "track" and direction is not None:
         raise RouteError(f"{where}: direction = {direction!r} is given for a track resource (only switches)")
-    return Resource(raw_id, kind, start, end, direction)
+    return direction
 
 
 def read_route(path: str | Path) -> Route:

@@ -198,52 +198,53 @@ MAX_BUILD_UP_S = 20
 
 def validate(train: TrainData, national: NationalData) -> None:
     """Raise :class:`TrainDataError` for data out of range (concrete data only)."""
-
-    def check(ok: bool, field: str, value, expected: str) -> None:
-        if not ok:
-            raise TrainDataError(f"train data: {field} = {value!r} is {expected}")
-
-    check(train.train_length_m > 0, "train_length_m", train.train_length_m, "not positive")
-    check(train.max_acceleration_mps2 >= 0, "max_acceleration_mps2", train.max_acceleration_mps2, "negative")
+    _check(train.train_length_m > 0, "train_length_m", train.train_length_m, "not positive")
+    _check(train.max_acceleration_mps2 >= 0, "max_acceleration_mps2", train.max_acceleration_mps2, "negative")
     for brake in ("emergency", "service"):
         speeds = getattr(train, f"{brake}_speeds_mps")
         decels = getattr(train, f"{brake}_decelerations_mps2")
-        check(
+        _check(
             len(speeds) == len(decels) and len(speeds) > 0,
             f"{brake}_speeds_mps",
             speeds,
             f"not one speed per deceleration ({len(decels)} decelerations)",
         )
-        check(speeds[0] == 0, f"{brake}_speeds_mps[0]", speeds[0], "not 0 (the first step starts at standstill)")
+        _check(speeds[0] == 0, f"{brake}_speeds_mps[0]", speeds[0], "not 0 (the first step starts at standstill)")
         for k in range(1, len(speeds)):
-            check(
+            _check(
                 speeds[k] > speeds[k - 1],
                 f"{brake}_speeds_mps[{k}]",
                 speeds[k],
                 f"not above {brake}_speeds_mps[{k - 1}] = {speeds[k - 1]!r}",
             )
         for k, a in enumerate(decels):
-            check(0 < a <= 5, f"{brake}_decelerations_mps2[{k}]", a, "outside (0, 5] m/s^2")
+            _check(0 < a <= 5, f"{brake}_decelerations_mps2[{k}]", a, "outside (0, 5] m/s^2")
     for name in ("kdry_rst", "kwet_rst"):
-        check(0 < getattr(train, name) <= 1, name, getattr(train, name), "outside (0, 1]")
+        _check(0 < getattr(train, name) <= 1, name, getattr(train, name), "outside (0, 1]")
     for name in ("rotating_mass_uphill_percent", "rotating_mass_downhill_percent"):
-        check(0 <= getattr(train, name) <= 50, name, getattr(train, name), "outside [0, 50] %")
+        _check(0 <= getattr(train, name) <= 50, name, getattr(train, name), "outside [0, 50] %")
     for name in ("t_be_s", "t_bs_s", "t_traction_s"):
-        check(
+        _check(
             0 <= getattr(train, name) <= MAX_BUILD_UP_S, name, getattr(train, name), f"outside [0, {MAX_BUILD_UP_S}] s"
         )
-    check(train.v_ura_mps >= 0, "v_ura_mps", train.v_ura_mps, "negative")
-    check(0 <= national.m_nvavadh <= 1, "m_nvavadh", national.m_nvavadh, "outside [0, 1]")
+    _check(train.v_ura_mps >= 0, "v_ura_mps", train.v_ura_mps, "negative")
+    _check(0 <= national.m_nvavadh <= 1, "m_nvavadh", national.m_nvavadh, "outside [0, 1]")
     for curve in ("ebi", "sbi", "warning"):
         lo, hi = getattr(national, f"dv_{curve}_min_mps"), getattr(national, f"dv_{curve}_max_mps")
         vlo, vhi = getattr(national, f"v_{curve}_min_mps"), getattr(national, f"v_{curve}_max_mps")
-        check(0 <= lo <= hi, f"dv_{curve}_max_mps", hi, f"below dv_{curve}_min_mps = {lo!r} or negative")
-        check(0 <= vlo < vhi, f"v_{curve}_max_mps", vhi, f"not above v_{curve}_min_mps = {vlo!r}")
+        _check(0 <= lo <= hi, f"dv_{curve}_max_mps", hi, f"below dv_{curve}_min_mps = {lo!r} or negative")
+        _check(0 <= vlo < vhi, f"v_{curve}_max_mps", vhi, f"not above v_{curve}_min_mps = {vlo!r}")
     for name in ("t_warning_s", "t_driver_s", "t_indication_s"):
-        check(0 <= getattr(national, name) <= 60, name, getattr(national, name), "outside [0, 60] s")
-    check(
+        _check(0 <= getattr(national, name) <= 60, name, getattr(national, name), "outside [0, 60] s")
+    _check(
         national.t_driver_s >= national.t_warning_s,
         "t_driver_s",
         national.t_driver_s,
         f"below t_warning_s = {national.t_warning_s!r} (the permitted curve must lie behind the warning curve)",
     )
+
+
+def _check(ok: bool, field: str, value, expected: str) -> None:
+    """Raise :class:`TrainDataError` naming the field, its value and what is wrong with it unless ``ok``."""
+    if not ok:
+        raise TrainDataError(f"train data: {field} = {value!r} is {expected}")

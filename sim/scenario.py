@@ -392,6 +392,11 @@ def _double_track(
                     f"must be a multiple of line.{spacing_key} = {spacing} on a double track, so that "
                     "the tags and resources of both tracks repeat round the loop",
                 )
+    return DoubleTrack(length_m, turn_back, _wayside_zone_boundaries(line, length_m))
+
+
+def _wayside_zone_boundaries(line: _Reader, length_m: Fraction) -> tuple[Fraction, ...]:
+    """The boundaries between the wayside zones of a double track: increasing positions inside the line."""
     raw = line.table.get("wayside_zone_boundaries_m", [])
     if not isinstance(raw, list):
         line.fail("wayside_zone_boundaries_m", "must be a list of positions along the line")
@@ -404,7 +409,7 @@ def _double_track(
                 f"line (0 to {length_m} m) and after the previous boundary"
             )
         boundaries.append(b)
-    return DoubleTrack(length_m, turn_back, tuple(boundaries))
+    return tuple(boundaries)
 
 
 def _mirrored_stations(

@@ -47,9 +47,13 @@ def _uses(item, fixture: str) -> bool:
     return fixture in getattr(item, "fixturenames", ())
 
 
+@pytest.hookimpl(tryfirst=True)  # before ``-m`` deselects by marker
 def pytest_collection_modifyitems(session, config, items):
-    """The tests that read the session's proof report run last, so the rest overlaps the proof run; those that
-    read its certificates after them."""
+    """The tests that read the session's proof report are ``slow`` (they wait for the whole suite's proofs) and
+    run last, so the rest overlaps the proof run; those that read its certificates after them."""
+    for item in items:
+        if _uses(item, "proof_suite_run") or _uses(item, "certify_suite_run"):
+            item.add_marker(pytest.mark.slow)
     items.sort(
         key=lambda item: (
             _uses(item, "proof_suite_run") or _uses(item, "certify_suite_run"),

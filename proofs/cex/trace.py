@@ -254,13 +254,7 @@ def parse_record(
 def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Property, Trace]:
     """Read a trace file, resolving its property in ``properties``; errors name file, field and value."""
     path = str(path)
-    try:
-        with open(path, encoding="utf-8") as fh:
-            doc = json.load(fh)
-    except OSError as exc:
-        raise TraceFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise TraceFileError(f"{path}: not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    doc = _read_json(path)
     if not isinstance(doc, dict):
         raise TraceFileError(f"{path}: the top level must be an object, got {type(doc).__name__}")
     if doc.get("format") != FORMAT:
@@ -288,3 +282,14 @@ def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Proper
     states.append(parse_record(path, "final_state", doc.get("final_state"), node.sorts("state")))
     trace = Trace(name, node.name, k, params, states, inputs)
     return prop, trace
+
+
+def _read_json(path: str) -> Any:
+    """The JSON document of a trace file, or a TraceFileError if it cannot be read or is not JSON."""
+    try:
+        with open(path, encoding="utf-8") as fh:
+            return json.load(fh)
+    except OSError as exc:
+        raise TraceFileError(f"{path}: cannot read: {exc.strerror}") from None
+    except json.JSONDecodeError as exc:
+        raise TraceFileError(f"{path}: not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None

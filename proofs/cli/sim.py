@@ -68,14 +68,7 @@ def run(args, out, err) -> int:
         except (PropertyViolation, SafetyViolation) as exc:
             failure = exc
     _print(out, sim)
-    if args.trace is not None:
-        write_atomic(args.trace, trace_text(rows, Path(args.trace).suffix))
-        out.print(f"trace: {args.trace} ({len(rows)} rows)")
-    if args.plot is not None and records:
-        from atcs.sim.plots import run_plots
-
-        for path in run_plots(sim, records, Path(args.plot)):
-            out.print(f"plot: {path}")
+    _write_outputs(args, out, sim, rows, records)
     if failure is not None:
         out.print(f"[bold red]violation:[/] {failure}")
         if args.trace is None:
@@ -85,6 +78,21 @@ def run(args, out, err) -> int:
         return EXIT_FALSIFIED
     out.print("[green]no violation[/]: every checked property held at every cycle")
     return EXIT_OK
+
+
+def _write_outputs(args, out, sim, rows: list[dict], records: list[list[dict]]) -> None:
+    """Write the trace asked for with ``--trace`` and the plots asked for with ``--plot``."""
+    from atcs.proofs.files import write_atomic
+    from atcs.sim.trace_files import trace_text
+
+    if args.trace is not None:
+        write_atomic(args.trace, trace_text(rows, Path(args.trace).suffix))
+        out.print(f"trace: {args.trace} ({len(rows)} rows)")
+    if args.plot is not None and records:
+        from atcs.sim.plots import run_plots
+
+        for path in run_plots(sim, records, Path(args.plot)):
+            out.print(f"plot: {path}")
 
 
 def _print(out, sim) -> None:

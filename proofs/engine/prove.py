@@ -147,32 +147,36 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Res
         assumed, failure = _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, _chain)
         if failure is not None:
             return result(*failure)
-        u = Unrolling(prop, tuple(assumed))
-        bmc, induction = Bmc(u), Induction(u)
-        for k in range(max_k + 1):
-            # the base case first: a counterexample at depth k is found even when the inductive step at k
-            # is too hard for the solver (the step of a broken model is typically the harder check)
-            base = bmc.check(k, deadline.remaining())
-            if base.result == "sat":
-                return _counterexample(prop, u, bmc, k, base.model, deadline if smooth_cex else None, result)
-            if base.result == "unknown":
-                return result("unknown", "bmc", k, _unknown(base, "BMC", k))
-            step = induction.check(k, deadline.remaining())
-            if step.result == "unsat":
-                return _with_vacuity(u, k, deadline, result)
-            if step.result == "unknown":
-                return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
-        return result(
-            "unknown",
-            "k-induction",
-            max_k,
-            f"not {max_k}-inductive and no counterexample up to depth {max_k}; "
-            "an auxiliary lemma may make it inductive",
-        )
+        return _k_induction_with_bmc(prop, Unrolling(prop, tuple(assumed)), max_k, deadline, smooth_cex, result)
     except _Timeout:
         return result("unknown", message=f"timeout after {timeout_s:g} s")
     except Exception as exc:  # the model or property could not be built: report, never pass
         return result("error", message=f"{type(exc).__name__}: {exc}{_model_location(exc)}")
+
+
+def _k_induction_with_bmc(prop, u, max_k, deadline, smooth_cex, result) -> Result:
+    """The verdict of k-induction interleaved with BMC: for k = 0 .. ``max_k``, BMC at depth k then the inductive
+    step at k, until one of them decides."""
+    bmc, induction = Bmc(u), Induction(u)
+    for k in range(max_k + 1):
+        # the base case first: a counterexample at depth k is found even when the inductive step at k
+        # is too hard for the solver (the step of a broken model is typically the harder check)
+        base = bmc.check(k, deadline.remaining())
+        if base.result == "sat":
+            return _counterexample(prop, u, bmc, k, base.model, deadline if smooth_cex else None, result)
+        if base.result == "unknown":
+            return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+        step = induction.check(k, deadline.remaining())
+        if step.result == "unsat":
+            return _with_vacuity(u, k, deadline, result)
+        if step.result == "unknown":
+            return result("unknown", "k-induction", k, _unknown(step, "inductive step", k))
+    return result(
+        "unknown",
+        "k-induction",
+        max_k,
+        f"not {max_k}-inductive and no counterexample up to depth {max_k}; an auxiliary lemma may make it inductive",
+    )
 
 
 def _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, chain) -> tuple[list[Property], tuple | None]:

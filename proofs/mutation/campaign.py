@@ -201,7 +201,6 @@ def run_mutant(mutant: Mutant, *, timeout_s: float, nodes: tuple[str, ...] | Non
 def _run_mutant(
     mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None, start: float, checks: list[Check]
 ) -> Outcome:
-    from atcs.proofs.cex.trace import replay
     from atcs.proofs.engine.prove import prove
 
     props = affected_properties(mutant, nodes)
@@ -215,8 +214,7 @@ def _run_mutant(
     share = timeout_s / max(len(props), 1)
     for first_pass in (True, False):
         if not first_pass:  # a lemma that ran out of its share is tried again with the time left
-            for name in [name for name, r in proved.items() if r.status == "unknown"]:
-                del proved[name]
+            _forget_unknown_lemmas(proved)
         for prop in props if first_pass else [p for p in props if p.name in unknown and p.name not in done]:
             left = timeout_s - (time.monotonic() - start)
             if left <= 0:
@@ -234,24 +232,41 @@ def _run_mutant(
             except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
                 return outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
             _record(checks, Check(prop.name, result.status, round(result.seconds, 3), result.message))
-            if result.status == "falsified":
-                run = MutantRun(result, result.replay, replay(prop, result.trace))
-                if run.killed:
-                    return outcome("killed", killed_by=prop.name, k=result.k, message=result.message, run=run)
-                unknown[prop.name] = f"{prop.name}: falsified, but the real model also fails on those inputs"
-                done.add(prop.name)
-            elif result.status == "error" and not result.message.startswith("lemma "):
-                return outcome("incompetent", message=f"{prop.name}: {result.message}")
-            elif result.status in ("proved", "vacuous"):
-                unknown.pop(prop.name, None)
-                done.add(prop.name)
-            else:
-                unknown[prop.name] = f"{prop.name}: {result.status}: {result.message}".rstrip(": ")
+            ending = _outcome_of_proof(prop, result, unknown, done, outcome)
+            if ending is not None:
+                return ending
     if unknown:
         return outcome("timeout", message="; ".join(unknown.values()))
     if not props:
         return outcome("incompetent", message="no selected node's proofs run this function")
     return outcome("survived", message=f"{len(props)} properties proved about the mutant")
+
+
+def _forget_unknown_lemmas(proved: dict) -> None:
+    """Drop the unknown lemma results from ``proved``, so that those lemmas are proved again."""
+    for name in [name for name, r in proved.items() if r.status == "unknown"]:
+        del proved[name]
+
+
+def _outcome_of_proof(prop: Property, result, unknown: dict[str, str], done: set[str], outcome) -> Outcome | None:
+    """What one proof about the mutant says: the outcome if it kills the mutant or shows it incompetent, else None,
+    with ``prop`` marked in ``done`` or ``unknown``."""
+    from atcs.proofs.cex.trace import replay
+
+    if result.status == "falsified":
+        run = MutantRun(result, result.replay, replay(prop, result.trace))
+        if run.killed:
+            return outcome("killed", killed_by=prop.name, k=result.k, message=result.message, run=run)
+        unknown[prop.name] = f"{prop.name}: falsified, but the real model also fails on those inputs"
+        done.add(prop.name)
+    elif result.status == "error" and not result.message.startswith("lemma "):
+        return outcome("incompetent", message=f"{prop.name}: {result.message}")
+    elif result.status in ("proved", "vacuous"):
+        unknown.pop(prop.name, None)
+        done.add(prop.name)
+    else:
+        unknown[prop.name] = f"{prop.name}: {result.status}: {result.message}".rstrip(": ")
+    return None
 
 
 def _record(checks: list[Check], check: Check) -> None:

@@ -17,7 +17,7 @@ requirements assume). A node no property is about has the whole state space.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -202,26 +202,29 @@ def short(term: z3.ExprRef, limit: int = 120) -> str:
         size[0] += len(text)
         return size[0] <= limit
 
-    def walk(t) -> bool:
-        if not z3.is_app(t) or t.num_args() == 0:
-            return emit(str(t))
-        kind = t.decl().kind()
-        if kind in _INFIX and t.num_args() >= 2:
-            if not emit("("):
-                return False
-            for j, child in enumerate(t.children()):
-                if (j and not emit(f" {_INFIX[kind]} ")) or not walk(child):
-                    return False
-            return emit(")")
-        if not emit(f"{t.decl().name()}("):
-            return False
-        for j, child in enumerate(t.children()):
-            if (j and not emit(", ")) or not walk(child):
-                return False
-        return emit(")")
-
-    complete = walk(term)
+    complete = _print_term(term, emit)
     text = "".join(parts)
     if complete and text.startswith("(") and text.endswith(")") and z3.is_app(term) and term.decl().kind() in _INFIX:
         text = text[1:-1]
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _print_term(t: z3.ExprRef, emit: Callable[[str], bool]) -> bool:
+    """Print a term through ``emit``, infix where z3 has an infix operator, stopping as soon as ``emit`` says the
+    limit is passed; True if the term was printed whole."""
+    if not z3.is_app(t) or t.num_args() == 0:
+        return emit(str(t))
+    kind = t.decl().kind()
+    if kind in _INFIX and t.num_args() >= 2:
+        if not emit("("):
+            return False
+        for j, child in enumerate(t.children()):
+            if (j and not emit(f" {_INFIX[kind]} ")) or not _print_term(child, emit):
+                return False
+        return emit(")")
+    if not emit(f"{t.decl().name()}("):
+        return False
+    for j, child in enumerate(t.children()):
+        if (j and not emit(", ")) or not _print_term(child, emit):
+            return False
+    return emit(")")

@@ -28,7 +28,7 @@ from atcs.model.ops.symbolic import unwrap
 from atcs.proofs.cex.trace import format_value
 from atcs.proofs.vectors.files import VectorFile, content_sha256, model_sha256, read, to_csv
 from atcs.proofs.vectors.generate import Vector, expected
-from atcs.proofs.vectors.goals import BOUNDARY_DELTA, StepFrame, boundaries, decisions, gap
+from atcs.proofs.vectors.goals import BOUNDARY_DELTA, Decision, StepFrame, boundaries, decisions, gap
 
 _OFFSETS = {"at": Fraction(0), "below": -BOUNDARY_DELTA, "above": BOUNDARY_DELTA}
 
@@ -181,6 +181,19 @@ def _check_claims(vf: VectorFile, ev: _Evaluator, problems: list[str]) -> None:
                     problems.append(f"vector {v.id}: it is not at boundary {claim}")
             elif ident.startswith("D") and "." in ident:
                 mcdc.setdefault(ident, {})[claim.rsplit("(", 1)[-1].rstrip(")")] = v
+    _check_mcdc_pairs(ev, mcdc, by_decision, pairs_of, masking, problems)
+
+
+def _check_mcdc_pairs(
+    ev: _Evaluator,
+    mcdc: dict[str, dict[str, Vector]],
+    by_decision: dict[str, Decision],
+    pairs_of: dict[str, list],
+    masking: set[str],
+    problems: list[str],
+) -> None:
+    """Each MC/DC pair claimed: its two vectors differ in the condition and the decision, and (unless the goal is
+    masking MC/DC) in no other condition."""
     for ident, pair in mcdc.items():
         d_id, c_id = ident.split(".")
         d = by_decision.get(d_id)

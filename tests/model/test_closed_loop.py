@@ -119,6 +119,7 @@ def test_proved(proof_suite_run, name):
     assert (record["status"], record["engine"]) == ("proved", "k-induction"), record["message"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(COARSE), ids=str)
 def test_proved_on_the_coarse_variant(coarse_results, name):
     result = coarse_results[name]
@@ -161,6 +162,7 @@ def test_latches_held_over_are_falsified(old, new):
 # --- simulation: the same step function and predicates on concrete numbers ------------------------
 
 
+@pytest.mark.slow
 @settings(max_examples=4, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds: no shrinking
 @given(eoa_m=st.integers(300, 1500), breakpoint_m=st.integers(1, 1999), noise=st.randoms(use_true_random=False))
 def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):

@@ -85,7 +85,7 @@ MUTANTS = {
             "i.front_max_m < i.stopping_point_m + i.stop_tolerance_m",
         ),
         # every platform of the table required to span the doors, not one
-        (doors.platform_covers_doors, "return o.or_(*(", "return o.and_(*("),
+        (doors.platform_covers_doors, "return o.or_(", "return o.and_("),
     ],
     "doors.dcu_follows_commands": [
         # a door that opens only if it is open already: it never opens (atcs mutate)
@@ -97,8 +97,8 @@ MUTANTS = {
         # the DCU wired to the ATO's request instead of the ATP's enable
         (
             doors.door_loop_step,
-            "enable_left=atp.enable_left, enable_right=atp.enable_right, open_left",
-            "enable_left=i.request_left, enable_right=atp.enable_right, open_left",
+            "enable_left=atp.enable_left,\n            enable_right",
+            "enable_left=i.request_left,\n            enable_right",
         ),
     ],
 }
@@ -229,7 +229,9 @@ class TestPlatformStop:
 
     def test_the_monitor_catches_a_door_opening_off_the_platform(self):
         faulty = mutant_node(
-            DOOR_LOOP, "enable_right=atp.enable_right, open_left", "enable_right=i.request_right, open_left"
+            DOOR_LOOP,
+            "enable_right=atp.enable_right,\n            open_left",
+            "enable_right=i.request_right,\n            open_left",
         )
         with pytest.raises(PropertyViolation, match=r"doors\.open_only_at_platform_stop") as caught:
             platform_stop_monitor(faulty).step(loop_inputs(front=STOP_M - 300, open_right=True))

@@ -372,5 +372,5 @@ class PositionMachine(RuleBasedStateMachine):
             assert all(self.monitor.applies(p.name) for p in POSITION_PROPERTIES), "left the assumptions"
 
 
-TestPositionStateful = PositionMachine.TestCase
+TestPositionStateful = pytest.mark.slow(PositionMachine.TestCase)
 TestPositionStateful.settings = settings(max_examples=25, stateful_step_count=12)  # a run drives hundreds of cycles

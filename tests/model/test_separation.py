@@ -122,6 +122,7 @@ def test_proved(proof_suite_run, name):
     assert (record["status"], record["engine"]) == ("proved", "k-induction"), record["message"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(COARSE), ids=str)
 def test_proved_on_the_coarse_variant(coarse_results, name):
     result = coarse_results[name]
@@ -184,6 +185,7 @@ def _leader_motion(speed_mps, accel_mps2, dt):
     return v_next, (speed_mps + v_next) / 2 * dt
 
 
+@pytest.mark.slow
 @settings(max_examples=2, phases=(Phase.explicit, Phase.reuse, Phase.generate))  # a run takes seconds
 @example(mode="bw", gap_m=250, leader_kmh=80, seed=1)  # each mode once, at the closest start
 @example(mode="rbd", gap_m=250, leader_kmh=80, seed=2)

@@ -221,8 +221,8 @@ MUTANTS = {
     ),
     "deceleration.safe_deceleration_conservative": (
         deceleration.safe_deceleration_mps2,
-        "+ gradient_deceleration_mps2(o, grad_c",
-        "- gradient_deceleration_mps2(o, grad_c",
+        "+ gradient_deceleration_mps2(",
+        "- gradient_deceleration_mps2(",
     ),
     # the rotating mass left out of the divisor (a survivor of atcs mutate: DEC-03 reads the model's own formula)
     "deceleration.gradient_term_per_seed": (

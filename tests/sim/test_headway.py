@@ -97,6 +97,7 @@ def test_invariant_figure_is_where_sep01_stops_holding(theory, mode, front_m):
     assert holds(no_collision, gap)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("mode", MODES)
 def test_measured_gap_settles_between_the_route_locking_phases(theory, measured, mode):
     """The simulator's follower settles no closer than the ATP allows and within one resource of what the theory
@@ -117,6 +118,7 @@ def test_measured_gap_settles_between_the_route_locking_phases(theory, measured,
     assert figure.headway_s == pytest.approx((figure.gap_m + 200) / float(SPEED_MPS))
 
 
+@pytest.mark.slow
 def test_weak_follower_brake_moves_every_figure_out_of_the_nominal_bound(theory, measured):
     """The mutant: the follower with half the emergency brake needs more gap by every figure, and its measured gap
     breaks the nominal bound (the check can fail), while staying within its own theory's bracket."""

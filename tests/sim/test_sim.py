@@ -209,6 +209,7 @@ class TestScenarios:
             resolve("seed000_nosuch")
 
 
+@pytest.mark.slow
 class TestSeed000Outcomes:
     """Seed 000 §2.5: the four runs of the integrated simulation."""
 
@@ -303,6 +304,7 @@ class TestDoubleTrack:
             assert train.stats.emergency_brakes == 0 and train.stats.service_brakes == 0
         assert {r[k]["track"] for r in records for k in range(2) if r[k]["doors_open"]} == {"up", "down"}
 
+    @pytest.mark.slow
     def test_trains_run_round_both_turn_backs_and_the_front_train_follows_the_last(self, tmp_path):
         path = tmp_path / "loop.toml"
         path.write_text(LOOP.format(duration_s=295, extra=""))
@@ -382,6 +384,7 @@ class TestReferenceProfile:
     """The ATO tracking the minimum-time profile (cvxpy, Clarabel) from stop to stop: the ATP never intervenes, and
     each stretch takes about the profile's optimal running time."""
 
+    @pytest.mark.slow
     def test_the_atp_never_intervenes_and_the_stretches_take_the_optimal_time(self):
         scenario = load_scenario(resolve("seed002_optimal_profile"))
         assert scenario.ato_reference_profile
