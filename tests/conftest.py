@@ -23,9 +23,19 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 _PROOF_RUN: dict = {}
 
 CERTIFY_TIMEOUTS_S = {"z3": 600, "cvc5": 1200}
-"""Per-check time limits of the session's ``atcs certify`` run, both solvers on every property: cvc5's about seven
-times its longest check (164 s, case 10 of ``separation.braking_invariant_rbd_seed000``), z3's far above its
-checks (seconds each: README, ``atcs certify``), so that a slower machine gives the same verdicts."""
+"""Per-check time limits of the session's ``atcs certify`` run: several times each solver's longest check on an
+idle machine (docs/benchmarks.md, ``atcs certify``), so that a slower machine gives the same verdicts."""
+
+CERTIFY_Z3_ONLY = (
+    "closed_loop.braking_invariant_seed000",
+    "separation.braking_invariant_bw_seed002",
+    "separation.braking_invariant_rbd_seed000",
+    "separation.no_collision_rbd_seed000",
+)
+"""The certificates the suite checks with z3 alone (``--z3-only``): cvc5 needs most of the suite's time for these
+four (docs/benchmarks.md, ``atcs certify``), so the suite has cvc5 confirm the other seed's certificate of each of
+these properties and leaves these ``unconfirmed``; ``atcs certify`` without ``--z3-only`` certifies all of them
+with both solvers."""
 
 _BACKGROUND = """
 import json
@@ -100,6 +110,8 @@ def pytest_collection_finish(session):
         "--jobs",
         "2",
         *(a for solver, limit in CERTIFY_TIMEOUTS_S.items() for a in (f"--{solver}-timeout", str(limit))),
+        "--z3-only",
+        ",".join(CERTIFY_Z3_ONLY),
     ]
     with paths.stdout.open("w") as stdout:
         process = subprocess.Popen(
@@ -152,7 +164,7 @@ def proof_suite_run():
 
 @pytest.fixture(scope="session")
 def certify_suite_run(proof_suite_run):
-    """``atcs certify --report`` on the session's prove report, both solvers on every property,
+    """``atcs certify --report`` on the session's prove report, both solvers (z3 alone on :data:`CERTIFY_Z3_ONLY`),
     :data:`CERTIFY_TIMEOUTS_S`, two workers, run by the proof run's subprocess once it has proved."""
     process, paths = _PROOF_RUN["process"], _PROOF_RUN["paths"]
     code = process.wait()
@@ -168,4 +180,5 @@ def certify_suite_run(proof_suite_run):
         dir=paths.certificates,
         stdout=paths.certify_stdout.read_text(),
         timeouts_s=CERTIFY_TIMEOUTS_S,
+        z3_only=CERTIFY_Z3_ONLY,
     )

@@ -1,8 +1,8 @@
 """Headway at 80 km/h (seed 001 §3.2 Fig. 6, seed 000 §2.5): the separation invariant's bound, the
 ATP-limited gap and the simulator's steady state, in both modes. The invariant's figure is checked against SEP-01's
 own predicate; the measurement settles between the theory's best and worst phases of the route locking; a follower
-with half the emergency brake moves every figure the expected way, out of the nominal bound. About 55 s (three
-closed-loop runs of about 2,000 cycles)."""
+with half the emergency brake moves every figure the expected way, out of the nominal bound. The measured
+figures come from three closed-loop runs of about 2,000 cycles (``slow``)."""
 
 import dataclasses
 from fractions import Fraction

@@ -251,6 +251,7 @@ class TestSeed000Outcomes:
         assert (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
 
 
+@pytest.mark.slow
 class TestSeed002Outcomes:
     """Seed 002 §4.2 (Table 1: 56.8 km, tags every 200 m, MA at most 1.5 km, full service 3.5 and EB 4.5 km/h/s)."""
 
