@@ -1,4 +1,4 @@
-"""ATO target-speed selection (seed 003 §2.1, §2.2; DESIGN.md domain summary).
+"""ATO target-speed selection (seed 003 §2.1, §2.2; docs/design.md domain summary).
 
 Seed 003 gives the rules by which the onboard controller chooses the speed it
 drives towards, for a balise (fixed, "discontinuous") MA in §2.1 and for a radio
@@ -22,7 +22,7 @@ drives towards, for a balise (fixed, "discontinuous") MA in §2.1 and for a radi
 deceleration ``a``: a target (location ``x``, speed ``u``) is near once the
 distance to it is at most ``(v^2 - u^2) / (2 a)`` plus a margin (§2.2.2 asks for
 a buffer that covers the train length and its braking capability). The seed
-gives no formula; DESIGN.md's kinetic-energy form keeps it free of square roots
+gives no formula; docs/design.md's kinetic-energy form keeps it free of square roots
 and, multiplied out by ``2 a > 0``, free of division, so the same source runs on
 floats, Fractions and z3 (a proof may quantify over ``a`` and the margin).
 

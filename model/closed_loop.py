@@ -1,5 +1,5 @@
 """The ATP in closed loop: supervision of the end of authority and the MRSP ceiling, composed with the
-braking curves and the plant (seed 000 §2.4 and §2.5; DESIGN.md, the closed-loop argument).
+braking curves and the plant (seed 000 §2.4 and §2.5; docs/design.md, the closed-loop argument).
 
 Each cycle the ATP reads the measured front and speed, takes the max safe front
 (measured + ``position_error_m``), and compares it with the location of each curve of

@@ -1,4 +1,4 @@
-"""Braking curves: EBD, EBI, SBI, warning, permitted and indication (seed 000 §2.4, 002 §3.2, DESIGN.md
+"""Braking curves: EBD, EBI, SBI, warning, permitted and indication (seed 000 §2.4, 002 §3.2, docs/design.md
 reference formulas in Subset-026 §3.13 style).
 
 A curve is handled as the *location* at which it reaches a given speed (the

@@ -1,6 +1,6 @@
 """The dynamic speed profile over the horizon: targets from the MRSP and the MA, the most restrictive
 curve at the train's position, the ceilings, and what supervision compares each cycle (seed 000 §2.4,
-002 §3.2; DESIGN.md reference formulas).
+002 §3.2; docs/design.md reference formulas).
 
 - Targets: every speed *decrease* of the MRSP ahead of the max safe front (its EBD ends at
   ``V_target + dV_ebi(V_target)``, Subset-026 §3.13.8.3) and the end of authority (its EBD ends

@@ -1,4 +1,4 @@
-"""A node: one synchronous step function with explicit state (DESIGN.md, step-function pattern).
+"""A node: one synchronous step function with explicit state (docs/design.md, step-function pattern).
 
 A node bundles the dataclasses of its parameters, state, inputs and outputs with
 two functions written once against :class:`~atcs.model.ops.Ops`:

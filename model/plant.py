@@ -1,4 +1,4 @@
-"""Train kinematics with bounded nondeterminism: the plant the closed-loop proofs drive (DESIGN.md, the
+"""Train kinematics with bounded nondeterminism: the plant the closed-loop proofs drive (docs/design.md, the
 closed-loop argument in discrete time).
 
 One step is one ATP cycle of ``cycle_s``. The plant does not choose its motion: each
@@ -164,6 +164,6 @@ PLANT = Node(
     outputs=PlantOutputs,
     init=plant_init,
     step=plant_step,
-    seed="000 §2.5, DESIGN.md closed loop",
+    seed="000 §2.5, docs/design.md closed loop",
     sizes={"gradient_starts_m": 2, "gradient_permille": 2},
 )

@@ -3,7 +3,7 @@
 The position is kept as seed 001's ``(LRTI, offset)``: the last read tag (LRT) and
 the tachometer distance since it. Each cycle the tachometer's distance increment
 ``d`` is added to the offset; a tag read resets the offset to 0 (seed 001 Fig. 7).
-The confidence interval is DESIGN.md's odometry formula, with the LRT's position as
+The confidence interval is docs/design.md's odometry formula, with the LRT's position as
 the reference and the tag reader's window as its accuracy::
 
     min safe front = ref + (1 - e) * offset - w      max safe front = ref + (1 + e) * offset + w
@@ -130,7 +130,7 @@ class PositionOutputs(Generic[N, B]):
 
 
 def odometry_interval(o: Ops, p: PositionParams, ref_m, offset_m):
-    """``(min safe front, max safe front)`` at ``offset_m`` past a tag at ``ref_m`` (DESIGN.md odometry)."""
+    """``(min safe front, max safe front)`` at ``offset_m`` past a tag at ``ref_m`` (docs/design.md odometry)."""
     return (
         ref_m + (o.const(1) - p.tacho_error) * offset_m - p.tag_window_m,
         ref_m + (o.const(1) + p.tacho_error) * offset_m + p.tag_window_m,

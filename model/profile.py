@@ -1,6 +1,6 @@
 """Piecewise-constant profiles over distance: speed limits and gradients (seed 001 §3.3, 000 §2.3).
 
-A profile is a fixed number of segments (as SCADE's fixed-size arrays, DESIGN.md):
+A profile is a fixed number of segments (as SCADE's fixed-size arrays, docs/design.md):
 segment ``j`` holds ``values[j]`` on ``[starts_m[j], starts_m[j + 1])``, the last
 one up to ``end_m``. Inside the model everything is SI (m, m/s, m/s^2) and
 gradients are per mille (positive uphill); km/h are accepted only by the

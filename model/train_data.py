@@ -1,4 +1,4 @@
-"""Train and national data for the braking curves (Subset-026 §3.13 style, DESIGN.md reference formulas).
+"""Train and national data for the braking curves (Subset-026 §3.13 style, docs/design.md reference formulas).
 
 Everything is SI inside: m, s, m/s, m/s^2; gradients per mille. The presets take the
 seeds' figures in km/h and km/h/s and convert them once, exactly:

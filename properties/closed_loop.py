@@ -1,4 +1,4 @@
-"""The closed-loop theorem (seed 000 §2.4, §2.5; DESIGN.md, the closed-loop argument in discrete time).
+"""The closed-loop theorem (seed 000 §2.4, §2.5; docs/design.md, the closed-loop argument in discrete time).
 
 Over :data:`~atcs.model.closed_loop.CLOSED_LOOP`: for any driver or ATO command
 (any motion the plant admits), any measurement within its error bounds, any end of
@@ -177,8 +177,8 @@ def speed_bounded_brake_cycle_cases(n_be: int):
     """``Property.certificate_cases``: :func:`brake_cycle_cases`, each case at a speed within
     :data:`CERTIFICATE_SPEED_BOUND_MPS`; the faster states fall in the rest case, which the invariant refutes at
     once. The explicit bound is what cvc5's non-linear reasoning lacked (case 1 of
-    ``separation.no_collision_rbd_seed000`` has no answer without it, README, certify); in the engine's own
-    split it stalled z3 on the coarse-cycle variant, hence a split for the certificate only (README, certify)."""
+    ``separation.no_collision_rbd_seed000`` has no answer without it, docs/certificates.md); in the engine's own
+    split it stalled z3 on the coarse-cycle variant, hence a split for the certificate only (docs/certificates.md)."""
     by_brake_cycles = brake_cycle_cases(n_be)
 
     def by_brake_cycles_within_bound(o, p, s):
@@ -203,7 +203,7 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
         Property(
             name=invariant,
             requirement="CL-00",
-            seed="000 §2.4; DESIGN.md closed loop",
+            seed="000 §2.4; docs/design.md closed loop",
             text=(
                 f"{preset}: with c cycles of EB command so far (c < the build-up), the worst-case state when the "
                 "brake becomes effective is behind the EoA and behind the EBD for its speed, and the speed is "
@@ -286,7 +286,7 @@ def closed_loop_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
         Property(
             name=f"closed_loop.state_follows_plant_and_atp_{preset}",
             requirement="CL-05",
-            seed="000 §2.5; DESIGN.md closed loop",
+            seed="000 §2.5; docs/design.md closed loop",
             text=(
                 f"{preset}: each cycle the true front advances by the distance run and the true speed becomes "
                 "the cycle's end speed, the brake counter counts the cycles of EB command up to the build-up "

@@ -1,4 +1,4 @@
-"""Properties of the braking curves (seed 000 §2.4, 002 §3.2; DESIGN.md reference formulas).
+"""Properties of the braking curves (seed 000 §2.4, 002 §3.2; docs/design.md reference formulas).
 
 Proved over the node :data:`~atcs.model.curves.CURVES` with the target, the query
 speed and acceleration, the front, the true speed and the breakpoints of a

@@ -129,7 +129,7 @@ def _next_tag(o, p, s):
 
 
 def _odometry(o, p, s, i, j):
-    """The min and max safe front past tag j by the tachometer (DESIGN.md odometry), before any reset."""
+    """The min and max safe front past tag j by the tachometer (docs/design.md odometry), before any reset."""
     offset = s.offset_m + i.tacho_m
     ref = p.tag_positions_m[j]
     return (
@@ -274,7 +274,7 @@ PROPERTIES = (
         "resets, for any forward motion (tachometer and tag reader within their stated errors).",
         _front_in_interval,
         (TABLE, TACHOMETER, TAG_READER),
-        seed="001 §3.2 (Fig. 7), 002 §3.1; DESIGN.md odometry",
+        seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
     ),
     _property(
         "rear_in_interval",

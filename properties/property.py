@@ -57,7 +57,7 @@ class Property:
     certificate_cases: Callable[..., Any] | None = None
     """The split of the certificate's inductive step (:mod:`atcs.proofs.certify.obligations`), as ``cases``, when it is
     not ``cases``: the certificate is checked by cvc5 as well as z3, and a split that helps one solver can stall
-    the other (README, ``atcs certify``). Any split is sound: the certificate adds the rest as one more case."""
+    the other (docs/certificates.md). Any split is sound: the certificate adds the rest as one more case."""
 
     def __post_init__(self):
         if not _NAME.match(self.name):

@@ -226,7 +226,7 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
     state_follows = Property(
         name=f"separation.state_follows_{mode}_{preset}",
         requirement="SEP-06",
-        seed="000 §2.5; DESIGN.md closed loop",
+        seed="000 §2.5; docs/design.md closed loop",
         text=(
             f"{preset}, {name}: each cycle the follower's front, speed, brake counter and latches follow its plant "
             "and ATP as in the closed loop (CL-05), the leader's rear advances by its distance run, its speed "

@@ -1,6 +1,6 @@
 """The minimum-running-time speed profile between two station stops, for the ATO to follow (cvxpy, CLARABEL).
 
-In specific kinetic energy ``E = v^2/2`` over distance the problem is convex (DESIGN.md): on a uniform
+In specific kinetic energy ``E = v^2/2`` over distance the problem is convex (docs/design.md): on a uniform
 grid ``x_0 = start_m < ... < x_N = stop_m`` of step ``ds``, with ``E_0 = E_N = 0``,
 
 - ceiling: ``0 <= E_i <= c_i^2 / 2``, ``c_i`` the caller's ceiling (the lowest of ``x_{i-1}, x_i, x_{i+1}``

@@ -1,4 +1,4 @@
-"""The import graph of the packages (DESIGN.md, the layers): ``model`` imports nothing of atcs but itself;
+"""The import graph of the packages (docs/design.md, the layers): ``model`` imports nothing of atcs but itself;
 ``properties`` only ``model``; ``proofs`` ``model`` and ``properties``; ``sim`` ``model``. The crossings below
 are the only ones, each for the reason given. Read from the source with ``ast``, so an import inside a function
 counts too."""

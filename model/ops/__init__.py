@@ -1,4 +1,4 @@
-"""The three interpretations of a step function (DESIGN.md, "The step-function pattern").
+"""The three interpretations of a step function (docs/design.md, "The step-function pattern").
 
 Every step function in :mod:`atcs.model` takes an ``Ops`` as its first argument and
 uses it for constants, branching and extrema; arithmetic and ordering comparisons

@@ -38,9 +38,9 @@ SOLVERS = ("z3", "cvc5")
 VERDICTS = ("unsat", "sat", "unknown")
 
 CVC5_OPTIONS = {"incremental": "false"}
-"""The options cvc5 checks every script with, set through its API before the script is read (README,
-``atcs certify``). A script has one ``(check-sat)``; cvc5's API solver is incremental by default, and without
-that mode it answers the closed-loop step case, which it otherwise does not."""
+"""The options cvc5 checks every script with, set through its API before the script is read (docs/certificates.md).
+A script has one ``(check-sat)``; cvc5's API solver is incremental by default, and without that mode it answers
+the closed-loop step case, which it otherwise does not."""
 
 
 @dataclass(frozen=True)

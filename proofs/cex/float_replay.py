@@ -3,7 +3,7 @@ IEEE doubles, and compared step by step with the exact replay.
 
 Each exact value (parameters, the initial state, every step's inputs) is converted to its nearest double once;
 the float run then keeps its own states, as the simulator would on those inputs, so a rounding difference can
-carry on to later steps. The comparison (DESIGN.md, floats vs reals: keep the gap explicit):
+carry on to later steps. The comparison (docs/design.md, floats vs reals: keep the gap explicit):
 
 - a boolean (a next-state or output field, or the property's verdict ``holds``) that differs is a divergence:
   the first step and field are reported;

@@ -1,7 +1,7 @@
 """A counterexample as a PNG plot, for any node: speeds against time and distance, locations against
 time, boolean commands as lanes, the violating step marked.
 
-What is drawn is read off the node's field names (DESIGN.md: names carry units), never configured per node:
+What is drawn is read off the node's field names (docs/design.md: names carry units), never configured per node:
 
 - speeds: every real state, input and output field ending in ``_mps`` (drawn in km/h), against time (step x
   cycle, :func:`atcs.proofs.cex.vcd.cycle_s`) and, when the node has a position field, against distance;

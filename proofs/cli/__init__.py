@@ -1,7 +1,7 @@
 """The ``atcs`` command line: one module per command, each with ``add_parser(subparsers)`` and a ``run``;
 :mod:`._common` holds what they share (exit codes, progress, output checks, the property selection).
 
-Exit codes (DESIGN.md): 0 everything asked for holds, 1 a verdict against, 2 bad input, 3 incomplete;
+Exit codes (docs/design.md): 0 everything asked for holds, 1 a verdict against, 2 bad input, 3 incomplete;
 ``replay`` adds 4 (each command's module says what its codes mean).
 """
 

@@ -1,5 +1,5 @@
 """What every command shares: the parser, argument types, the consoles, the progress display, output-path checks,
-the property selection and the exit codes (DESIGN.md).
+the property selection and the exit codes (docs/design.md).
 
 Exit codes: 0 everything asked for holds, 1 a verdict against (falsified, disagreement, a surviving mutant, a
 failed vector or check), 2 bad input (:class:`~atcs.model.errors.AtcsInputError`, one line naming the option or

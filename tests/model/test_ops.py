@@ -162,7 +162,7 @@ class TestSymbolicRefusals:
 
 
 class TestFreshContext:
-    """Each proof builds its terms in a z3 context of its own (README, Determinism)."""
+    """Each proof builds its terms in a z3 context of its own (docs/writing-properties.md, Determinism)."""
 
     def test_every_constant_goes_to_the_block_context(self):
         o = SYMBOLIC
