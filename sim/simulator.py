@@ -351,7 +351,21 @@ class Simulation:
     def _onboard(self, train: TrainRun, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """One cycle of train ``k``'s onboard functions and its plant: returns (the resources it sends a request or
         release for, the T2T report it sends)."""
-        o, spec, data = FLOAT, train.spec, train.spec.data
+        pos = self._locate(train, t)
+        auth, lo = self._authority(train, pos, leader, leader_ahead_m, k, t)
+        eoa_m = float(auth.eoa_m)
+        commands, curves = self._supervise(train, pos, eoa_m, t)
+        target, traction = self._drive(train, pos, eoa_m, curves, commands, t)
+        self._record(train, pos, eoa_m, curves, target, commands, traction, t)
+        report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid else None
+        count = self.resources_per_lap
+        sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
+        return sends, report
+
+    def _locate(self, train: TrainRun, t: float):
+        """Step 1, position: the tag read this cycle (or a sensor fault in its place) and the tachometer; a valid
+        position must contain the true front unless a sensor fault is injected."""
+        spec = train.spec
         self._move_tag_table(train)
         tag = None if spec.fault("missed_tag", t) else train.last_tag
         tag_id = self.tag_ids[tag] if tag is not None else 0.0
@@ -368,12 +382,16 @@ class Simulation:
                 self.step_count,
                 t,
             )
+        return pos
+
+    def _authority(self, train: TrainRun, pos, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
+        """Step 2, movement authority on the window of the route the train needs, on exact numbers (the float
+        rounding of a stopping point would break the authority properties by an ulp): returns the node's outputs
+        and the window's first resource."""
         zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
         report = leader.report if leader is not None else None
         if report is not None and leader_ahead_m:
             report = (report[0] + leader_ahead_m, report[1])
-        # exact, from the floats' exact values: the authority properties are checked on exact numbers (the
-        # float rounding of a stopping point would break them by an ulp)
         lo, hi = self._window(train, pos, k)
         window = dataclasses.replace(
             train.authority_params, **{name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS}
@@ -399,13 +417,16 @@ class Simulation:
             self.step_count,
             ops=EXACT,
         )
-        eoa_m = float(auth.eoa_m)
+        return auth, lo
 
+    def _supervise(self, train: TrainRun, pos, eoa_m: float, t: float):
+        """Step 3, speed and distance supervision against the MRSP and the EoA: returns the commands and the
+        curves at the max safe front; counts the interventions once the train has started."""
+        spec = train.spec
         horizon = Horizon(mrsp=train.mrsp, gradient=train.gradient, eoa_m=eoa_m, eoa_speed_mps=0.0)
-        speed = pos.speed_est_mps
         a_est = float(train.plant.max_acceleration_mps2)
         over, curves, _ = supervise_position(
-            o, train.train_data, train.national, horizon, pos.front_max_m, speed, a_est
+            FLOAT, train.train_data, train.national, horizon, pos.front_max_m, pos.speed_est_mps, a_est
         )
         departed = t >= float(spec.depart_s)
         released = (departed and not train.started) or (
@@ -415,18 +436,23 @@ class Simulation:
         )
         before = train.supervision
         train.supervision, commands = supervise(
-            o, SupervisionParams(True), before, over, pos.standstill, released, pos.position_valid
+            FLOAT, SupervisionParams(True), before, over, pos.standstill, released, pos.position_valid
         )
         if train.started and commands.emergency_brake and not before.eb_latched:
             train.stats.emergency_brakes += 1
         if train.started and commands.service_brake and not before.sb_latched:
             train.stats.service_brakes += 1
-
         train.started = train.started or (departed and not commands.emergency_brake)
+        return commands, curves
+
+    def _drive(self, train: TrainRun, pos, eoa_m: float, curves, commands, t: float):
+        """Steps 4 and 5: the ATO's commands, the doors at a stop (which may cut traction), then the plant under
+        the ATP's brake commands: returns the ATO's target and whether traction was applied."""
+        spec = train.spec
+        departed = t >= float(spec.depart_s)
         station, at_station, target, traction, ato_brake = ato_commands(
             self, train, pos, eoa_m, curves, departed, bool(commands.traction_cut)
         )
-        service_max = float(data.service_decelerations_mps2[0])
         doors = station_doors(
             self,
             train,
@@ -438,14 +464,18 @@ class Simulation:
             supervision_cut=bool(commands.traction_cut),
         )
         traction = bool(doors.traction_applied)
+        service_max = float(spec.data.service_decelerations_mps2[0])
         ignores_sb = spec.fault("ignores_service_brake", t) is not None
         service = 0.0 if ignores_sb else (service_max if commands.service_brake else ato_brake)
         move(self, train, commands.emergency_brake, traction, service, t)
-
         if commands.emergency_brake and train.speed_mps == 0.0 and train.stopped_s is None:
             train.stopped_s = t
         if not commands.emergency_brake:
             train.stopped_s = None
+        return target, traction
+
+    def _record(self, train: TrainRun, pos, eoa_m: float, curves, target, commands, traction: bool, t: float):
+        """The train's row of the trace for this cycle."""
         train.last = {
             "t_s": t,
             "front_m": train.front_m,
@@ -464,9 +494,6 @@ class Simulation:
         }
         if self.scenario.loop:  # where the front is on the double track
             train.last["track"], train.last["x_m"] = self.scenario.double_track.place(train.front_m)
-        report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid else None
-        sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
-        return sends, report
 
     def _window(self, train: TrainRun, pos, k: int) -> tuple[int, int]:
         """The resources (by index on the route) the authority node needs this cycle: those held, those from the
