@@ -391,7 +391,7 @@ class TestReferenceProfile:
         assert scenario.ato_reference_profile
         sim, records = _run(scenario)
         (train,) = sim.trains
-        assert train.stats.station_stops == 2 and (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+        assert train.stats.station_stops == 3 and (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
         assert not any(r[0]["eb"] or r[0]["sb"] for r in records[5:])  # past the power-up EB: no intervention
         assert [p.positions_m[-1] for p in train.references] == [8810, 14010, 19210]
         departures = [0.0] + [
