@@ -20,7 +20,7 @@ from atcs.model.authority import (
     AuthorityState,
     authority_step,
 )
-from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle
+from atcs.model.closed_loop import CLOSED_LOOP_SIZES, ClosedLoopInputs, atp_cycle
 from atcs.model.curves import MIN_SPAN
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
@@ -160,12 +160,7 @@ TWO_TRAINS = Node(
     step=two_train_step,
     seed="001 §3.2 (Fig. 6), 000 §2.2, §2.5",
     sizes={
-        "gradient_starts_m": 2,
-        "gradient_permille": 2,
-        "emergency_speeds_mps": 1,
-        "emergency_decelerations_mps2": 1,
-        "service_speeds_mps": 1,
-        "service_decelerations_mps2": 1,
+        **CLOSED_LOOP_SIZES,
         **{
             name: PROOF_RESOURCES
             for name in (
