@@ -25,6 +25,8 @@ def write_counterexample(directory: str | Path, prop: Property, result: Result) 
     doc = to_json(result.trace, result.replay, requirement=prop.requirement)
     if result.smoothing is not None:
         doc["smoothing"] = result.smoothing.as_json()
+    if result.nominal is not None:
+        doc["nominal"] = result.nominal.as_json()
     write_atomic(json_path, json.dumps(doc, indent=2) + "\n")
     write_atomic(directory / f"{prop.name}.csv", to_csv(result.trace, result.replay))
     write_atomic(
@@ -49,6 +51,7 @@ def result_record(prop: Property, result: Result, counterexample: str | None) ->
         "counterexample": counterexample,
         "input_changes": None if result.trace is None else input_changes(result.trace),
         "smoothing": None if result.smoothing is None else result.smoothing.as_json(),
+        "nominal": None if result.nominal is None else result.nominal.as_json(),
         "witnesses": [{"what": w.what, "step": w.step} for w in result.witnesses],
     }
 

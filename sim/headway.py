@@ -26,7 +26,7 @@ from __future__ import annotations
 import dataclasses
 import tempfile
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -60,6 +60,21 @@ TAG_SPACING_M = 100
 """Seed 000 §2.5: a tag every 100 m."""
 LEADER_FRONT_M = 500
 """The leader's front at power-up; the follower powers up on the tag one spacing behind the leader's rear."""
+CYCLE_S = Fraction(1, 10)
+"""The scenario's ATP cycle (seed 001: 100 ms)."""
+TAG_WINDOW_M = Fraction(5, 2)
+"""The scenario's default ``atp.tag_window_m``: how far past a tag the front may be when the tag is read."""
+LOWEST_STEADY_KMH = Fraction(65)
+"""The lowest speed at which :func:`measured_minimum`, with its defaults, settles in both modes (measured: 65 km/h
+does, 62 and 60 km/h do not): below it the follower, held back by its leader, dips more than
+``speed_tolerance_kmh`` under the speed within the settling window."""
+
+
+def speed_range_kmh(tag_window_m=TAG_WINDOW_M) -> tuple[Fraction, Fraction]:
+    """The least and the greatest speed (km/h, both included) :func:`headway_report` runs at: from
+    :data:`LOWEST_STEADY_KMH` up to one ``tag_window_m`` in a cycle of :data:`CYCLE_S` (a train running further in
+    a cycle can pass a tag and run past the window before it is read, which the simulator stops as a violation)."""
+    return LOWEST_STEADY_KMH, _number("tag_window_m", tag_window_m) / CYCLE_S * KMH_PER_MPS
 
 
 class HeadwayError(AtcsInputError):
@@ -140,7 +155,7 @@ def scenario_text(
     follower_depart_s=0,
     safety_margin_m=20,
     report_timeout_s=2,
-    tag_window_m="2.5",
+    tag_window_m=TAG_WINDOW_M,
     tacho_error="0.01",
     max_ma_m=1500,
     planning_decel_kmhps="1.5",
@@ -179,7 +194,7 @@ def scenario_text(
             'seed = "001 §3.2, 000 §2.5"',
             f'description = "A leader at {n(speed)} km/h and a follower right behind it: the steady-state headway."',
             f"duration_s = {n(duration)}",
-            "cycle_s = 0.1",
+            f"cycle_s = {n(CYCLE_S)}",
             "",
             "[line]",
             f"length_m = {line_m}",
@@ -610,11 +625,13 @@ def measured_minimum(
     )
 
 
-def headway_report(speed_kmh=80, **options) -> list[dict]:
+def headway_report(speed_kmh=80, on_mode: Callable[[str], None] = lambda mode: None, **options) -> list[dict]:
     """One row per mode: the measured gap and headway (``options``: :func:`measured_minimum`'s), the
-    ATP-limited and the invariant's theoretical ones, and the resource length the measurement used."""
+    ATP-limited and the invariant's theoretical ones, and the resource length the measurement used; ``on_mode``
+    is called with each mode before its closed-loop run."""
     rows = []
     for mode in MODES:
+        on_mode(mode)
         measured = measured_minimum(mode, speed_kmh, **options)
         theory = {
             k: v

@@ -1,10 +1,12 @@
 """Benchmarks: measured side by side in one run, reported as ratios (never as timed unit tests).
 
-``BENCHMARKS`` registers them by name for ``atcs bench [NAME]``.
+``BENCHMARKS`` registers them by name for ``atcs bench [NAME]``; the first line of each one's docstring is its
+summary in ``atcs bench --help``.
 """
 
 from __future__ import annotations
 
+import inspect
 import statistics
 import time
 from collections.abc import Callable
@@ -136,8 +138,9 @@ def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -
 
 
 def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
-    """Apply and withdraw a 30 km/h restriction on the seed 002 line and on a line 10x longer: the
-    incremental window update against whole-line recomputations (float backend, same step functions)."""
+    """Apply and withdraw a speed restriction: the incremental window update against whole-line recomputations.
+
+    A 30 km/h restriction on the seed 002 line and on a line 10x longer (float backend, same step functions)."""
     rng = np.random.default_rng(20261122)
     train_m = SEED002_TRAIN_M
     results: dict[str, float] = {}
@@ -210,3 +213,8 @@ BENCHMARKS: dict[str, Callable[[Console], object]] = {
     "cycle": bench_cycle,
     "sim": bench_sim,
 }
+
+
+def summary(name: str) -> str:
+    """The first line of the benchmark's docstring."""
+    return inspect.getdoc(BENCHMARKS[name]).splitlines()[0]

@@ -60,6 +60,7 @@ def bench_sim(
         wall_s = time.perf_counter() - t0
         per_cycle_s = wall_s / cycles
         rows.append((trains, per_cycle_s, sim.dt / per_cycle_s))
+        console.print(f"bench sim: {trains} trains, {per_cycle_s * 1e3:.1f} ms a cycle")
         results[f"{trains}_trains_cycle_s"] = per_cycle_s
         results[f"{trains}_trains_real_time_factor"] = sim.dt / per_cycle_s
     table = Table(

@@ -22,7 +22,7 @@ from fractions import Fraction
 
 from atcs.model.node import as_dict, flatten
 from atcs.model.ops.floating import FLOAT, floats
-from atcs.proofs.cex.trace import Replay, Trace, format_value
+from atcs.proofs.cex.trace import Replay, Trace, readable_value
 from atcs.properties.property import Property
 
 
@@ -36,7 +36,7 @@ class Difference:
     float: float | bool
 
     def describe(self) -> str:
-        return f"step {self.step}, {self.field}: exact {format_value(self.exact)}, float {self.float!r}"
+        return f"step {self.step}, {self.field}: exact {readable_value(self.exact)}, float {self.float!r}"
 
 
 @dataclass

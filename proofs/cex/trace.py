@@ -10,6 +10,7 @@ model, is wrong (:class:`ReplayError`).
 from __future__ import annotations
 
 import csv
+import decimal
 import io
 import itertools
 import json
@@ -160,6 +161,43 @@ def format_value(value):
     return ("-" if value < 0 else "") + text
 
 
+SHOWN_DIGITS = 6
+"""Significant digits of the decimal shown beside an exact value (:func:`readable_value`)."""
+
+
+def rounded_decimal(value: Fraction, digits: int = SHOWN_DIGITS) -> str:
+    """``value`` rounded to ``digits`` significant digits (half to even), trailing zeros dropped: ``0.333333``,
+    ``1.23457e+6``."""
+    with decimal.localcontext(prec=digits, rounding=decimal.ROUND_HALF_EVEN):
+        rounded = decimal.Decimal(value.numerator) / decimal.Decimal(value.denominator)
+    return f"{rounded.normalize():g}"
+
+
+def readable_value(value) -> str:
+    """A value for people: a number as its exact decimal when it has at most 6 significant digits (``0.1``,
+    ``-1.25``, ``1000000``), else rounded to 6 with the exact value (as in the trace file) in parentheses
+    (``0.333333 (1/3)``); ``True``/``False``; an array as ``[a, b]``."""
+    if isinstance(value, tuple):
+        return "[" + ", ".join(readable_value(v) for v in value) + "]"
+    if isinstance(value, bool):
+        return str(value)
+    value = Fraction(value)
+    exact = format_value(value)
+    rounded = rounded_decimal(value)
+    return exact if Fraction(rounded) == value else f"{rounded} ({exact})"
+
+
+def nearest_double(value):
+    """A value as a spreadsheet reads it: a number as the shortest decimal of its nearest double (an integer
+    without ``.0``), a boolean as itself."""
+    if isinstance(value, bool):
+        return value
+    value = Fraction(value)
+    if value.denominator == 1 and abs(value) < 2**53:
+        return str(value.numerator)
+    return repr(float(value))
+
+
 def input_changes(trace: Trace) -> int:
     """The number of (step, input variable) pairs whose value differs from the previous step's (an array input
     counts per element): what smoothing (:mod:`atcs.proofs.cex.smoothing`) minimises."""
@@ -193,7 +231,8 @@ def to_json(trace: Trace, replayed: Replay | None = None, *, requirement: str = 
 
 
 def to_csv(trace: Trace, replayed: Replay) -> str:
-    """One row per step, one column per parameter, state, input and output variable (arrays spread out)."""
+    """One row per step, one column per parameter, state, input and output variable (arrays spread out); numbers
+    as the decimal of their nearest double (:func:`nearest_double`), the exact values being in the JSON trace."""
     out = io.StringIO()
 
     def groups(k):
@@ -209,7 +248,7 @@ def to_csv(trace: Trace, replayed: Replay) -> str:
         ["step"] + [f"{prefix}.{n}" for prefix, record in groups(0) for n in flatten(record)] + ["holds", "violation"]
     )
     for k in range(len(trace.inputs)):
-        row = [k] + [format_value(v) for _, record in groups(k) for v in flatten(record).values()]
+        row = [k] + [nearest_double(v) for _, record in groups(k) for v in flatten(record).values()]
         writer.writerow([*row, replayed.holds[k], k == trace.violation_step])
     return out.getvalue()
 

@@ -4,22 +4,36 @@ the property selection and the exit codes (docs/design.md).
 Exit codes: 0 everything asked for holds, 1 a verdict against (falsified, disagreement, a surviving mutant, a
 failed vector or check), 2 bad input (:class:`~atcs.model.errors.AtcsInputError`, one line naming the option or
 file, the field and the value), 3 incomplete (unknown, error, time-out) with nothing against; ``replay`` adds 4.
+Any command: 70 an internal error (a bug of atcs: one line, ``ATCS_TRACEBACK=1`` shows the traceback), 130
+interrupted (Ctrl-C).
 """
 
 from __future__ import annotations
 
 import argparse
 import fnmatch
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import (
+    BarColumn,
+    MofNCompleteColumn,
+    Progress,
+    TextColumn,
+    TimeElapsedColumn,
+    TimeRemainingColumn,
+)
 
 from atcs.model.errors import AtcsInputError
 
 EXIT_OK, EXIT_FALSIFIED, EXIT_USAGE, EXIT_UNKNOWN = 0, 1, 2, 3
+EXIT_INTERNAL = 70
+"""An unexpected exception escaped a command: a bug of atcs (sysexits' EX_SOFTWARE)."""
+EXIT_INTERRUPTED = 130
+"""Interrupted (Ctrl-C): 128 + SIGINT, as a shell reports it."""
 
 
 def exit_code(*, against: bool, incomplete: bool) -> int:
@@ -126,13 +140,20 @@ def reraised(prefix: str, *errors: type[Exception]) -> Iterator[None]:
         raise UsageError(f"{prefix}{exc}") from None
 
 
+LOG_EVERY_S = 10.0
+"""In a log (not a terminal), a long run's position is printed at most this often."""
+
+
 @dataclass
 class Bar:
-    """A progress bar on a terminal; in a log (not a terminal), ``done`` also prints one line per item."""
+    """A progress bar with the time left on a terminal; in a log (not a terminal), ``done`` prints one line per
+    item and ``at`` a line with the time left every :data:`LOG_EVERY_S`."""
 
     progress: Progress
     task: int
     console: Console
+    started_s: float = field(default_factory=time.monotonic)
+    logged_s: float = field(default_factory=time.monotonic)
 
     def done(self, what: str, log_line: str | None = None) -> None:
         """One item finished: the bar shows ``what``; a log gets ``log_line`` (default ``what``)."""
@@ -141,12 +162,35 @@ class Bar:
             print(log_line or what, file=self.console.file, flush=True)
 
     def at(self, completed: int) -> None:
-        """Move the bar to ``completed`` items (no log line)."""
+        """Move the bar to ``completed`` items; in a log, say so with the time left every :data:`LOG_EVERY_S`."""
         self.progress.update(self.task, completed=completed)
+        now = time.monotonic()
+        if self.console.is_terminal or now - self.logged_s < LOG_EVERY_S:
+            return
+        self.logged_s = now
+        print(self.position(completed, now), file=self.console.file, flush=True)
+
+    def position(self, completed: int, now: float) -> str:
+        """``description: completed/total (percent), elapsed, the time left at the rate so far``."""
+        task = self.progress.tasks[self.task]
+        total, elapsed = task.total or 0, now - self.started_s
+        left = elapsed * (total - completed) / completed if completed else float("nan")
+        percent = 100 * completed / total if total else 0.0
+        return (
+            f"{task.description}: {completed}/{total:g} ({percent:.0f} %), {elapsed:.0f} s elapsed, "
+            f"about {left:.0f} s left"
+        )
 
 
 @contextmanager
 def progress_bar(console: Console, description: str, total: int) -> Iterator[Bar]:
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn())
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        TextColumn("left"),
+        TimeRemainingColumn(),
+    )
     with Progress(*columns, console=console, transient=True) as progress:
         yield Bar(progress, progress.add_task(description, total=total), console)

@@ -108,7 +108,7 @@ def run(args, out, err) -> int:
             wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit, z3_only=z3_only
         ):
             results[c.name] = c
-            bar.done(f"certifying {c.name}")
+            bar.done(f"certified {c.name}", f"{c.own_status()} {c.name} (own checks, lemmas aside)")
     campaign.settle(results, depths)
     wall = time.monotonic() - start
 

@@ -1,7 +1,8 @@
 """``atcs headway``: the least steady-state headway, measured in closed loop, the ATP's and the separation
 invariant's, in both modes (sim/headway.py explains the three figures).
 
-Exit code 0, or 2 for a bad speed.
+Exit code 0, or 2 for a bad speed: not a number, or outside the range the measurement runs at
+(:func:`~atcs.sim.headway.speed_range_kmh`).
 """
 
 from __future__ import annotations
@@ -21,16 +22,31 @@ def add_parser(subparsers) -> None:
     h.set_defaults(run=run)
 
 
+def _check_speed(text: str, speed) -> None:
+    """Refuse a speed the measurement cannot run at (:func:`~atcs.sim.headway.speed_range_kmh` says why)."""
+    from atcs.sim.headway import CYCLE_S, LOWEST_STEADY_KMH, TAG_WINDOW_M, speed_range_kmh
+
+    lowest, highest = speed_range_kmh()
+    if not lowest <= speed <= highest:
+        raise UsageError(
+            f"headway: --speed = {text!r} is outside the supported range, {float(lowest):g} to {float(highest):g} km/h "
+            f"(above {float(highest):g} a train runs past the {float(TAG_WINDOW_M):g} m tag window in one "
+            f"{float(CYCLE_S):g} s cycle; below {float(LOWEST_STEADY_KMH):g} the run reaches no steady state)"
+        )
+
+
 def run(args, out, err) -> int:
     from atcs.model.profile import ProfileError, parse_number
     from atcs.sim.headway import HeadwayError, headway_report
 
     with reraised("", ProfileError):
         speed = parse_number("headway", "--speed", args.speed, ProfileError)
-    if not 0 < speed <= 120:
-        raise UsageError(f"headway: --speed = {args.speed!r} must be in (0, 120] km/h")
+    _check_speed(args.speed, speed)
     with reraised("headway: ", HeadwayError):
-        rows = headway_report(speed)
+        rows = headway_report(
+            speed,
+            on_mode=lambda mode: err.print(f"headway: measuring {mode} at {float(speed):g} km/h (a closed-loop run)"),
+        )
     table = Table(
         title=f"headway at a steady {float(speed):g} km/h: gap from the follower's front to the leader's "
         "rear, and (gap + train length) / speed"

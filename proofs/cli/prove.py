@@ -29,6 +29,11 @@ def add_parser(subparsers) -> None:
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
     p.add_argument(
+        "--catalogue",
+        metavar="FILE",
+        help="write the property catalogue (Markdown: each property as registered, with this run's verdict) here",
+    )
+    p.add_argument(
         "--timeout",
         metavar="SECONDS",
         type=positive_float,
@@ -49,11 +54,19 @@ def add_parser(subparsers) -> None:
         help="also write each proved property's witness runs (its assumptions and every implication's "
         "condition reached) here as JSON",
     )
-    p.add_argument(
+    refine = p.add_mutually_exclusive_group()
+    refine.add_argument(
         "--smooth",
         action="store_true",
         help="make each counterexample one with the fewest input changes (same length; the time left "
         "within --timeout; the count before and after is in the reports)",
+    )
+    refine.add_argument(
+        "--nominal",
+        action="store_true",
+        help="make each counterexample one whose measured inputs equal the true values, and whose other inputs "
+        "are nearest 0, as far as the violation allows (same length; the time left within --timeout; the "
+        "distances before and after are in the reports)",
     )
     p.set_defaults(run=run)
 
@@ -65,13 +78,15 @@ def run(args, out, err) -> int:
 
     props = selected_properties("prove", args.only)
     check_outputs(
-        files={"--json": args.json, "--junit": args.junit},
+        files={"--json": args.json, "--junit": args.junit, "--catalogue": args.catalogue},
         dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir},
     )
     start = time.monotonic()
     results = {}
     with progress_bar(err, "proving", len(props)) as bar:
-        for result in suite.run(props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth):
+        for result in suite.run(
+            props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth, nominal=args.nominal
+        ):
             results[result.name] = result
             bar.done(f"{result.name}: {result.status}", f"{result.status} {result.name} ({result.seconds:.1f} s)")
     wall = time.monotonic() - start
@@ -90,6 +105,10 @@ def run(args, out, err) -> int:
         write_atomic(args.json, report.json_report(records, timeout_s=args.timeout, wall_s=wall))
     if args.junit:
         write_atomic(args.junit, report.junit_report(records, wall_s=wall))
+    if args.catalogue:
+        from atcs.proofs.catalogue import catalogue_markdown
+
+        write_atomic(args.catalogue, catalogue_markdown(props, {r["name"]: r for r in records}))
     statuses = {r["status"] for r in records}
     return exit_code(against="falsified" in statuses, incomplete=bool(statuses & {"vacuous", "unknown", "error"}))
 

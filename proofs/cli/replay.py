@@ -39,22 +39,28 @@ def run(args, out, err) -> int:
 
 def _print_exact(out, prop, trace, result, file_name: str) -> None:
     from atcs.model.node import flatten
-    from atcs.proofs.cex.trace import format_value
+    from atcs.proofs.cex.trace import readable_value
 
     out.print(f"{prop.name} ({prop.requirement}, seed {prop.seed}): {prop.text}")
     if trace.params:
-        out.print("parameters: " + ", ".join(f"{n}={format_value(v)}" for n, v in trace.params.items()))
+        out.print("parameters: " + ", ".join(f"{n}={readable_value(v)}" for n, v in trace.params.items()))
     first = result.first_violation
     steps = range(len(trace.inputs))
-    table = Table(title=f"replay of {file_name} (exact arithmetic; one column per step)")
-    table.add_column("variable")
+    table = Table(
+        title=f"replay of {file_name} (exact arithmetic; one column per step; a value not shown exactly by its "
+        "6-digit decimal has its exact value in parentheses)"
+    )
+    table.add_column("variable", overflow="fold")
     for k in steps:
         table.add_column(
-            f"{k} VIOLATED" if k == first else str(k), justify="right", style="bold red" if k == first else None
+            f"{k} VIOLATED" if k == first else str(k),
+            justify="right",
+            style="bold red" if k == first else None,
+            overflow="fold",  # a long exact value wraps onto more lines, never cut off
         )
     for prefix, values in (("state", result.states), ("input", trace.inputs), ("output", result.outputs)):
         for n in flatten(values[0]):
-            table.add_row(f"{prefix}.{n}", *(str(format_value(flatten(values[k])[n])) for k in steps))
+            table.add_row(f"{prefix}.{n}", *(readable_value(flatten(values[k])[n]) for k in steps))
     table.add_row("holds", *("no" if not ok else "yes" for ok in result.holds))
     out.print(table)
     for problem in result.problems:
@@ -72,15 +78,15 @@ def _print_exact(out, prop, trace, result, file_name: str) -> None:
 
 
 def _print_floats(out, floats) -> None:
-    from atcs.proofs.cex.trace import format_value
+    from atcs.proofs.cex.trace import readable_value
 
     if floats.largest:
         gaps = Table(title="float run (IEEE doubles) against the exact run: the largest difference per field")
         for heading in ("field", "|float - exact|", "step", "exact", "float"):
-            gaps.add_column(heading, justify="left" if heading == "field" else "right")
+            gaps.add_column(heading, justify="left" if heading == "field" else "right", overflow="fold")
         for name in sorted(floats.largest, key=floats.gap, reverse=True):
             d = floats.largest[name]
-            gaps.add_row(name, f"{float(floats.gap(name)):.3g}", str(d.step), str(format_value(d.exact)), repr(d.float))
+            gaps.add_row(name, f"{float(floats.gap(name)):.3g}", str(d.step), readable_value(d.exact), repr(d.float))
         out.print(gaps)
     for what, d in (("a boolean differs", floats.first_boolean), ("a number is not finite", floats.non_finite)):
         if d is not None:

@@ -1,16 +1,26 @@
 """``atcs sim SCENARIO``: run a scenario in closed loop, checking the properties every cycle.
 
-Exit code 0 the run ended with no violation, 1 a property or safety check failed, 2 a bad scenario.
+Exit code 0 the run ended with no violation, 1 a property or safety check failed, 2 a bad scenario, 130
+interrupted (Ctrl-C: the summary of the run so far is printed first).
 """
 
 from __future__ import annotations
 
 from collections import deque
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from rich.table import Table
 
-from atcs.proofs.cli._common import EXIT_FALSIFIED, EXIT_OK, UsageError, check_outputs, progress_bar, reraised
+from atcs.proofs.cli._common import (
+    EXIT_FALSIFIED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    UsageError,
+    check_outputs,
+    progress_bar,
+    reraised,
+)
 
 VIOLATION_TRACE_CYCLES = 600
 """Without ``--trace``: on a violation, the last this many cycles are written to ``SCENARIO_violation.csv`` in
@@ -34,50 +44,73 @@ def add_parser(subparsers) -> None:
 
 def run(args, out, err) -> int:
     from atcs.proofs.files import write_atomic
-    from atcs.sim.monitor import PropertyViolation
     from atcs.sim.scenario import ScenarioError, load_scenario, resolve
-    from atcs.sim.simulator import Simulation
     from atcs.sim.trace_files import trace_text
-    from atcs.sim.train_run import SafetyViolation
 
     with reraised("sim: ", ScenarioError):
         scenario = load_scenario(resolve(args.scenario))
     if args.trace is not None and Path(args.trace).suffix not in (".csv", ".jsonl"):
         raise UsageError(f"sim: --trace {args.trace}: the file must end in .csv or .jsonl")
     check_outputs(files={"--trace": args.trace}, dirs={"--plot": args.plot})
-    rows: list[dict] = []
-    records: list[list[dict]] = []
-    recent: deque[list[dict]] = deque(maxlen=VIOLATION_TRACE_CYCLES)
     out.print(f"{scenario.name} (seed {scenario.seed}): {scenario.description}")
-    failure = None
-    with progress_bar(out, "cycles", int(scenario.duration_s / scenario.cycle_s)) as bar:
-
-        def record(sim):
-            if args.trace is not None:
-                rows.extend({"train": t.spec.name, **t.last} for t in sim.trains)
-            else:  # the last cycles, written out if the run fails
-                recent.append([{"train": t.spec.name, **t.last} for t in sim.trains])
-            if args.plot is not None:
-                records.append([dict(t.last) for t in sim.trains])
-            if sim.step_count % 50 == 0:
-                bar.at(sim.step_count)
-
-        sim = Simulation(scenario, on_cycle=record)
-        try:
-            sim.run()
-        except (PropertyViolation, SafetyViolation) as exc:
-            failure = exc
-    _print(out, sim)
-    _write_outputs(args, out, sim, rows, records)
-    if failure is not None:
-        out.print(f"[bold red]violation:[/] {failure}")
+    done = _simulate(scenario, args, err)
+    _print(out, done.sim)
+    if done.interrupted:
+        out.print(f"[yellow]interrupted[/] at {done.sim.time_s:.1f} s: no violation up to there")
+        return EXIT_INTERRUPTED
+    _write_outputs(args, out, done.sim, done.rows, done.records)
+    if done.failure is not None:
+        out.print(f"[bold red]violation:[/] {done.failure}")
         if args.trace is None:
             path = Path(f"{scenario.name}_violation.csv")
-            write_atomic(path, trace_text([row for cycle in recent for row in cycle], ".csv"))
-            out.print(f"trace of the last {len(recent)} cycles: {path}")
+            write_atomic(path, trace_text([row for cycle in done.recent for row in cycle], ".csv"))
+            out.print(f"trace of the last {len(done.recent)} cycles: {path}")
         return EXIT_FALSIFIED
     out.print("[green]no violation[/]: every checked property held at every cycle")
     return EXIT_OK
+
+
+@dataclass
+class _Run:
+    """What a run recorded: the simulation, the trace rows (``--trace``), the plot records (``--plot``), the last
+    cycles (written out on a violation), and how it ended."""
+
+    sim: object = None
+    rows: list[dict] = field(default_factory=list)
+    records: list[list[dict]] = field(default_factory=list)
+    recent: deque = field(default_factory=lambda: deque(maxlen=VIOLATION_TRACE_CYCLES))
+    failure: Exception | None = None
+    interrupted: bool = False
+
+
+def _simulate(scenario, args, err) -> _Run:
+    """Run ``scenario`` to its end, a violation or Ctrl-C, with a progress bar (lines with the time left in a
+    log) on ``err``."""
+    from atcs.sim.monitor import PropertyViolation
+    from atcs.sim.simulator import Simulation
+    from atcs.sim.train_run import SafetyViolation
+
+    done = _Run()
+    with progress_bar(err, "cycles", int(scenario.duration_s / scenario.cycle_s)) as bar:
+
+        def record(sim):
+            if args.trace is not None:
+                done.rows.extend({"train": t.spec.name, **t.last} for t in sim.trains)
+            else:  # the last cycles, written out if the run fails
+                done.recent.append([{"train": t.spec.name, **t.last} for t in sim.trains])
+            if args.plot is not None:
+                done.records.append([dict(t.last) for t in sim.trains])
+            if sim.step_count % 50 == 0:
+                bar.at(sim.step_count)
+
+        done.sim = Simulation(scenario, on_cycle=record)
+        try:
+            done.sim.run()
+        except (PropertyViolation, SafetyViolation) as exc:
+            done.failure = exc
+        except KeyboardInterrupt:
+            done.interrupted = True
+    return done
 
 
 def _write_outputs(args, out, sim, rows: list[dict], records: list[list[dict]]) -> None:

@@ -1,14 +1,15 @@
 """``atcs vectors generate | verify | check``: certified test vectors of each step function.
 
-Exit codes: ``generate`` 0 every goal settled (covered or shown infeasible), 3 some unknown; ``verify`` 0 every
-file verified, 1 a problem; ``check`` 0 every vector passed, 1 one failed or the implementation stopped; all 2
-for bad input.
+Exit codes: ``generate`` 0 every goal settled (covered or shown infeasible), 3 some unknown (a property or a step
+that could not be built among them: one line each on stderr); ``verify`` 0 every file verified, 1 a problem;
+``check`` 0 every vector passed, 1 one failed or the implementation stopped; all 2 for bad input.
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from rich.table import Table
@@ -22,6 +23,7 @@ from atcs.proofs.cli._common import (
     add_jobs,
     check_outputs,
     positive_float,
+    progress_bar,
     reraised,
     tolerance,
 )
@@ -103,19 +105,65 @@ def _functions(command: str, names: list[str] | None) -> list[str]:
     return list(dict.fromkeys(names)) if names else list(NODES)
 
 
-def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float):
-    """One function's vectors, written to ``out_dir`` (module level: a worker process runs it)."""
+@dataclass
+class _Generated:
+    """One function's outcome for the table; ``errors``: what could not be built, one line each."""
+
+    function: str
+    vectors: int = 0
+    coverage: dict | None = None
+    """Per kind of goal, the counts (:meth:`~atcs.proofs.vectors.generate.FunctionVectors.coverage`); None when
+    the step could not be built."""
+    requirements: list[str] = field(default_factory=list)
+    covered: list[str] = field(default_factory=list)
+    seconds: float = 0.0
+    errors: list[str] = field(default_factory=list)
+
+    @property
+    def incomplete(self) -> bool:
+        return self.coverage is None or any(c["unknown"] for c in self.coverage.values())
+
+    def cells(self) -> tuple[str, ...]:
+        if self.coverage is None:
+            return (self.function, "0", "not built", "", "", "", f"{self.seconds:.1f}")
+        cov = self.coverage
+        left = {s: sum(cov[k][s] for k in cov) for s in ("infeasible", "unknown")}
+
+        def part(kind):
+            return f"{cov[kind]['covered']}/{cov[kind]['goals']}"
+
+        return (
+            self.function,
+            str(self.vectors),
+            f"{len(self.covered)}/{len(self.requirements)} ids, {part('requirement')}",
+            part("boundary"),
+            part("mcdc"),
+            f"{left['infeasible']} infeasible, {left['unknown']} unknown",
+            f"{self.seconds:.1f}",
+        )
+
+
+def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float) -> _Generated:
+    """One function's vectors, written to ``out_dir`` (module level: a worker process runs it); none, and the
+    reason in ``errors``, if its step cannot be built."""
     from atcs.model import NODES
     from atcs.proofs.vectors import files
+    from atcs.proofs.vectors.generate import StepBuildError
     from atcs.proofs.vectors.generate import generate as generate_vectors
     from atcs.properties import PROPERTIES
 
     node = NODES[name]
-    fv = generate_vectors(
-        node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s, budget_s=budget_s
-    )
+    start = time.monotonic()
+    try:
+        fv = generate_vectors(
+            node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s, budget_s=budget_s
+        )
+    except StepBuildError as exc:
+        return _Generated(name, seconds=time.monotonic() - start, errors=[str(exc)])
     files.write(out_dir, fv)
-    return name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds
+    return _Generated(
+        name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds, fv.errors
+    )
 
 
 def generate(args, out, err) -> int:
@@ -125,35 +173,28 @@ def generate(args, out, err) -> int:
     check_outputs(dirs={"--out": args.out})
     start = time.monotonic()
     jobs = [(n, args.out, args.timeout, args.budget) for n in names]
-    if args.jobs == 1:
-        rows = [_generate_one(*job) for job in jobs]
-    else:
-        with ProcessPoolExecutor(args.jobs) as pool:
-            rows = list(pool.map(_generate_one, *zip(*jobs, strict=True)))
+    rows = []
+    with progress_bar(err, "generating", len(jobs)) as bar, ProcessPoolExecutor(args.jobs) as pool:
+        done = (
+            (_generate_one(*job) for job in jobs)
+            if args.jobs == 1
+            else pool.map(_generate_one, *zip(*jobs, strict=True))
+        )
+        for row in done:
+            rows.append(row)
+            bar.done(f"generated {row.function}: {row.vectors} vectors")
     table = Table(
         title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s ({args.out})"
     )
     for heading in ("function", "vectors", "requirements", "boundaries", "MC/DC", "not covered", "seconds"):
         table.add_column(heading, justify="left" if heading == "function" else "right")
-    incomplete = False
-    for name, count, cov, reqs, covered, seconds in rows:
-
-        def part(kind, cov=cov):
-            return f"{cov[kind]['covered']}/{cov[kind]['goals']}"
-
-        left = {s: sum(cov[k][s] for k in cov) for s in ("infeasible", "unknown")}
-        incomplete = incomplete or left["unknown"] > 0
-        table.add_row(
-            name,
-            str(count),
-            f"{len(covered)}/{len(reqs)} ids, {part('requirement')}",
-            part("boundary"),
-            part("mcdc"),
-            f"{left['infeasible']} infeasible, {left['unknown']} unknown",
-            f"{seconds:.1f}",
-        )
+    for row in rows:
+        table.add_row(*row.cells())
     out.print(table)
-    return EXIT_UNKNOWN if incomplete else EXIT_OK
+    for row in rows:
+        for error in row.errors:
+            print(f"atcs: vectors generate: {row.function}: {error}", file=sys.stderr)
+    return EXIT_UNKNOWN if any(row.incomplete for row in rows) else EXIT_OK
 
 
 def _vector_files(command: str, directory: str, names: list[str] | None = None) -> list:

@@ -23,6 +23,7 @@ from pathlib import Path
 
 from atcs.model import ops
 from atcs.model.ops.symbolic import fresh_context
+from atcs.proofs.cex.nominal import Nominal, nominalise
 from atcs.proofs.cex.smoothing import Smoothing, smooth
 from atcs.proofs.cex.trace import Replay, ReplayError, Trace, extract, reproduce
 from atcs.proofs.engine.bmc import Bmc, Check
@@ -58,7 +59,10 @@ class Result:
     witnesses: tuple[Witness, ...] = ()
     """For a proved property: runs showing its assumptions and each implication's condition reachable."""
     smoothing: Smoothing | None = None
-    """For a counterexample asked to be smoothed (``smooth=True``): the input changes before and after."""
+    """For a counterexample asked to be smoothed (``smooth_cex=True``): the input changes before and after."""
+    nominal: Nominal | None = None
+    """For a counterexample asked to be near nominal (``nominal_cex=True``): its distance to nominal before and
+    after."""
 
     def __post_init__(self):
         self.status = Status(self.status)
@@ -103,6 +107,7 @@ def prove(
     max_k: int | None = None,
     proved: dict[str, Result] | None = None,
     smooth_cex: bool = False,
+    nominal_cex: bool = False,
     _chain: tuple[str, ...] = (),
 ) -> Result:
     """Prove or falsify ``prop`` within ``timeout_s`` seconds (lemmas' proofs included).
@@ -110,25 +115,31 @@ def prove(
     ``lemmas`` resolves the names in ``prop.lemmas`` (normally the property registry). ``proved``
     collects the lemma results of one run by name, so a lemma several properties share is proved once;
     share it only between properties of the same registry, never across a mutated model. With ``smooth_cex``
-    a counterexample is smoothed (:mod:`atcs.proofs.cex.smoothing`) within the time left before it is replayed.
+    a counterexample is smoothed (:mod:`atcs.proofs.cex.smoothing`), with ``nominal_cex`` made near nominal
+    (:mod:`atcs.proofs.cex.nominal`), within the time left before it is replayed; not both.
 
     Each proof (each lemma's too) builds its terms in a fresh z3 context, so its verdict and time do not
     depend on what the process proved before.
     """
+    if smooth_cex and nominal_cex:
+        raise ValueError("a counterexample is either smoothed or made near nominal, not both")
+    refine = "smooth" if smooth_cex else "nominal" if nominal_cex else None
     with fresh_context():
         return _prove(
-            prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, smooth_cex=smooth_cex, _chain=_chain
+            prop, timeout_s=timeout_s, lemmas=lemmas, max_k=max_k, proved=proved, refine=refine, _chain=_chain
         )
 
 
-def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Result:
+def _prove(prop, *, timeout_s, lemmas, max_k, proved, refine, _chain) -> Result:
     if timeout_s <= 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
     start = time.monotonic()
     deadline = _Deadline(timeout_s)
     max_k = prop.max_k if max_k is None else max_k
 
-    def result(status, engine="", k=None, message="", trace=None, replay=None, witnesses=(), smoothing=None):
+    def result(
+        status, engine="", k=None, message="", trace=None, replay=None, witnesses=(), smoothing=None, nominal=None
+    ):
         return Result(
             prop.name,
             prop.requirement,
@@ -141,20 +152,21 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, smooth_cex, _chain) -> Res
             replay,
             tuple(witnesses),
             smoothing,
+            nominal,
         )
 
     try:
-        assumed, failure = _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, _chain)
+        assumed, failure = _assumed_lemmas(prop, lemmas, proved, deadline, refine, _chain)
         if failure is not None:
             return result(*failure)
-        return _k_induction_with_bmc(prop, Unrolling(prop, tuple(assumed)), max_k, deadline, smooth_cex, result)
+        return _k_induction_with_bmc(prop, Unrolling(prop, tuple(assumed)), max_k, deadline, refine, result)
     except _Timeout:
         return result("unknown", message=f"timeout after {timeout_s:g} s")
     except Exception as exc:  # the model or property could not be built: report, never pass
-        return result("error", message=f"{type(exc).__name__}: {exc}{_model_location(exc)}")
+        return result("error", message=f"{type(exc).__name__}: {exc}{model_location(exc)}")
 
 
-def _k_induction_with_bmc(prop, u, max_k, deadline, smooth_cex, result) -> Result:
+def _k_induction_with_bmc(prop, u, max_k, deadline, refine, result) -> Result:
     """The verdict of k-induction interleaved with BMC: for k = 0 .. ``max_k``, BMC at depth k then the inductive
     step at k, until one of them decides."""
     bmc, induction = Bmc(u), Induction(u)
@@ -163,7 +175,7 @@ def _k_induction_with_bmc(prop, u, max_k, deadline, smooth_cex, result) -> Resul
         # is too hard for the solver (the step of a broken model is typically the harder check)
         base = bmc.check(k, deadline.remaining())
         if base.result == "sat":
-            return _counterexample(prop, u, bmc, k, base.model, deadline if smooth_cex else None, result)
+            return _counterexample(prop, u, bmc, k, base.model, (refine, deadline), result)
         if base.result == "unknown":
             return result("unknown", "bmc", k, _unknown(base, "BMC", k))
         step = induction.check(k, deadline.remaining())
@@ -179,7 +191,7 @@ def _k_induction_with_bmc(prop, u, max_k, deadline, smooth_cex, result) -> Resul
     )
 
 
-def _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, chain) -> tuple[list[Property], tuple | None]:
+def _assumed_lemmas(prop, lemmas, proved, deadline, refine, chain) -> tuple[list[Property], tuple | None]:
     """The lemmas ``prop`` rests on, each proved first (or taken from ``proved``); else the (status, engine, k,
     message) of the verdict: an error for a lemma cycle, an unknown lemma or a failed one, unknown if one is."""
     if prop.name in chain:
@@ -197,7 +209,8 @@ def _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, chain) -> tuple[
                 timeout_s=deadline.remaining(),
                 lemmas=lemmas,
                 proved=proved,
-                smooth_cex=smooth_cex,
+                smooth_cex=refine == "smooth",
+                nominal_cex=refine == "nominal",
                 _chain=(*chain, prop.name),
             )
             if proved is not None:
@@ -209,19 +222,23 @@ def _assumed_lemmas(prop, lemmas, proved, deadline, smooth_cex, chain) -> tuple[
     return assumed, None
 
 
-def _counterexample(prop, u, bmc, k, model, deadline, result) -> Result:
-    """The base case failed at depth ``k``: the counterexample, smoothed within the time left if ``deadline`` is
-    given (never past it: the counterexample is kept either way), replayed exactly."""
-    smoothing = None
-    if deadline is not None:
-        model, smoothing = smooth(u, bmc.solver, k, model, deadline.left())
+def _counterexample(prop, u, bmc, k, model, refinement, result) -> Result:
+    """The base case failed at depth ``k``: the counterexample, refined as ``refinement`` (kind, deadline) asks
+    (``smooth``, ``nominal`` or None) within the time left (never past it: the counterexample is kept either way),
+    replayed exactly."""
+    refine, deadline = refinement
+    found = {"smoothing": None, "nominal": None}
+    if refine == "smooth":
+        model, found["smoothing"] = smooth(u, bmc.solver, k, model, deadline.left())
+    elif refine == "nominal":
+        model, found["nominal"] = nominalise(u, bmc.solver, k, model, deadline.left())
     trace = extract(u, model, k)
     try:
         replayed = reproduce(prop, trace)
     except ReplayError as exc:
-        return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace, smoothing=smoothing)
-    message = f"violated at step {k}" + (f"; {smoothing.describe()}" if smoothing else "")
-    return result("falsified", "bmc", k, message, trace, replayed, smoothing=smoothing)
+        return result("error", "bmc", k, f"counterexample does not replay: {exc}", trace, **found)
+    message = "; ".join([f"violated at step {k}", *(r.describe() for r in found.values() if r is not None)])
+    return result("falsified", "bmc", k, message, trace, replayed, **found)
 
 
 def _with_vacuity(u, k, deadline, result) -> Result:
@@ -239,7 +256,7 @@ def _with_vacuity(u, k, deadline, result) -> Result:
 _ENGINE_DIRS = (str(Path(__file__).parents[1]), str(Path(ops.__file__).parent))
 
 
-def _model_location(exc: Exception) -> str:
+def model_location(exc: Exception) -> str:
     """Where in the model or property code the exception arose (the innermost frame outside the engine)."""
     for frame in reversed(traceback.extract_tb(exc.__traceback__)):
         if not frame.filename.startswith(_ENGINE_DIRS):

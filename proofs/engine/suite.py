@@ -14,11 +14,11 @@ _proved_in_this_worker: dict[str, Result] = {}
 
 
 def _prove_registered(
-    name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False
+    name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False, nominal: bool = False
 ) -> Result:
     proved = _proved_in_this_worker if proved is None else proved
     result = proved.get(name) or prove(
-        PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved, smooth_cex=smooth
+        PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved, smooth_cex=smooth, nominal_cex=nominal
     )
     proved[name] = result
     return result
@@ -31,22 +31,23 @@ def run(
     jobs: int = 1,
     on_start: Callable[[Property], None] = lambda p: None,
     smooth: bool = False,
+    nominal: bool = False,
 ) -> Iterator[Result]:
     """Yield one result per registered property, in completion order; with ``smooth``, counterexamples are
-    smoothed (:mod:`atcs.proofs.cex.smoothing`)."""
+    smoothed (:mod:`atcs.proofs.cex.smoothing`), with ``nominal`` made near nominal (:mod:`atcs.proofs.cex.nominal`)."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     if jobs == 1 or len(props) == 1:
         proved: dict[str, Result] = {}
         for prop in props:
             on_start(prop)
-            yield _prove_registered(prop.name, timeout_s, proved, smooth)
+            yield _prove_registered(prop.name, timeout_s, proved, smooth, nominal)
         return
     # spawn, not fork: z3 contexts must not be shared with a forked child
     with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
         futures = {}
         for prop in props:
             on_start(prop)
-            futures[pool.submit(_prove_registered, prop.name, timeout_s, None, smooth)] = prop
+            futures[pool.submit(_prove_registered, prop.name, timeout_s, None, smooth, nominal)] = prop
         for future in as_completed(futures):
             yield future.result()

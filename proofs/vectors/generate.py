@@ -13,7 +13,9 @@ for three kinds of goal (:mod:`atcs.proofs.vectors.goals`):
   the condition alone decides the outcome, the others masking nothing (masking MC/DC, DO-178C / CAST-6).
 
 A goal the solver shows impossible in the domain is ``infeasible`` (for MC/DC, the condition cannot change the
-decision on its own: a finding about the model); one it gives up on is ``unknown``. Neither is covered.
+decision on its own: a finding about the model); one it gives up on is ``unknown``. Neither is covered. A property
+that cannot be built (its assumptions or predicate raise on z3 terms) leaves one ``unknown`` requirement goal
+saying why; a step function that cannot be built raises :class:`StepBuildError`.
 """
 
 from __future__ import annotations
@@ -26,16 +28,22 @@ from typing import Any
 
 import z3
 
+from atcs.model.errors import AtcsError
 from atcs.model.node import Node, as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.symbolic import unwrap, wrap
 from atcs.proofs.engine.bmc import new_solver, solve
+from atcs.proofs.engine.prove import model_location
 from atcs.proofs.engine.system import Unrolling, model_value
 from atcs.proofs.engine.vacuity import check_vacuity
 from atcs.proofs.vectors.goals import BOUNDARY_DELTA, Decision, StepFrame, boundaries, decides, decisions, gap, short
 from atcs.properties.property import Property
 
 KINDS = ("requirement", "boundary", "mcdc")
+
+
+class StepBuildError(AtcsError):
+    """A function's step cannot be built on z3 terms, so it has no vectors; the message says why and where."""
 
 
 @dataclass
@@ -76,6 +84,8 @@ class FunctionVectors:
     requirements: list[str]
     """The requirement ids of the node's properties, each once, in registry order."""
     seconds: float = 0.0
+    errors: list[str] = field(default_factory=list)
+    """The properties that could not be built, one line each: ``<property>: <why>`` (their goals are unknown)."""
 
     def coverage(self) -> dict[str, dict[str, int]]:
         """Per kind of goal: how many there are and how many are covered, infeasible or unknown."""
@@ -163,10 +173,27 @@ class _Search:
         return vector
 
 
-def _requirement_goals(search: _Search, node: Node, props: tuple[Property, ...], goals: list[Goal]) -> None:
+def _unrollings(props: tuple[Property, ...], goals: list[Goal], errors: list[str]) -> list[tuple[Property, Unrolling]]:
+    """Each property with its unrolling, the first step built (its assumptions and predicate on z3 terms); a
+    property that cannot be built gets one ``unknown`` requirement goal saying why, and a line in ``errors``."""
+    built = []
     for prop in props:
+        try:
+            unrolling = Unrolling(prop)
+            unrolling.frame(0)
+        except Exception as exc:  # the property could not be built: an unknown goal, never a pass
+            why = f"the property could not be built: {type(exc).__name__}: {exc}{model_location(exc)}"
+            goals.append(Goal("requirement", f"{prop.requirement} {prop.name} (not built)", prop.text, "unknown", why))
+            errors.append(f"{prop.name}: {why}")
+            continue
+        built.append((prop, unrolling))
+    return built
+
+
+def _requirement_goals(search: _Search, node: Node, built: list[tuple[Property, Unrolling]], goals: list[Goal]) -> None:
+    for prop, unrolling in built:
         left = search.deadline - time.monotonic()
-        vac = check_vacuity(Unrolling(prop), timeout_s=max(min(left, search.timeout_s * 10), 0.001))
+        vac = check_vacuity(unrolling, timeout_s=max(min(left, search.timeout_s * 10), 0.001))
         for witness in vac.witnesses:
             goal = Goal(
                 "requirement",
@@ -258,11 +285,18 @@ def generate(
     """The vectors of one function (see the module docstring); ``timeout_s`` bounds each solver query,
     ``budget_s`` the whole function (goals past it are ``unknown``)."""
     start = time.monotonic()
-    frame = StepFrame(node, props)
-    search = _Search(frame, timeout_s, start + budget_s)
     goals: list[Goal] = []
-    found = decisions(frame)
-    _requirement_goals(search, node, props, goals)
+    errors: list[str] = []
+    built = _unrollings(props, goals, errors)
+    try:
+        frame = StepFrame(node, tuple(prop for prop, _ in built))
+        found = decisions(frame)
+    except Exception as exc:  # the step itself could not be built: no vectors, never a pass
+        raise StepBuildError(
+            f"the step could not be built on z3 terms: {type(exc).__name__}: {exc}{model_location(exc)}"
+        ) from exc
+    search = _Search(frame, timeout_s, start + budget_s)
+    _requirement_goals(search, node, built, goals)
     numbered = [(j, c, d) for j, (c, d) in enumerate(boundaries(found), start=1)]
     for d in found:  # decision by decision, so a budget that runs out leaves whole decisions, not a kind, unknown
         _boundary_goals(search, node, [b for b in numbered if b[2] is d], goals)
@@ -271,4 +305,4 @@ def generate(
     for n, vector in enumerate(vectors, start=1):
         vector.id = f"{node.name}-{n:04d}"
     requirements = list(dict.fromkeys(p.requirement for p in props))
-    return FunctionVectors(node.name, node.seed, vectors, goals, requirements, time.monotonic() - start)
+    return FunctionVectors(node.name, node.seed, vectors, goals, requirements, time.monotonic() - start, errors)

@@ -14,15 +14,19 @@ from atcs.model.profile import KMH_PER_MPS
 from atcs.model.train_data import seed000_train
 from atcs.properties.separation import separation_properties
 from atcs.sim.headway import (
+    CYCLE_S,
+    TAG_WINDOW_M,
     HeadwayError,
     headway_scenario,
     headway_setting,
     measured_minimum,
     scenario_text,
     sim_limited_gap,
+    speed_range_kmh,
     steady_state,
     theoretical_minimum,
 )
+from atcs.sim.train_run import SafetyViolation
 
 MODES = ("relative_braking", "brick_wall")
 SPEED_KMH = 80
@@ -143,6 +147,19 @@ def test_weak_follower_brake_moves_every_figure_out_of_the_nominal_bound(theory,
 def test_too_short_a_run_has_no_steady_state():
     with pytest.raises(HeadwayError, match="no steady state"):
         measured_minimum("brick_wall", SPEED_KMH, duration_s=30, settle_s=20, follower_depart_s=0)
+
+
+def test_the_speed_range_tops_out_at_one_tag_window_a_cycle():
+    assert speed_range_kmh() == (65, 90)
+    assert speed_range_kmh(tag_window_m=5)[1] == 180
+    scenario = headway_scenario("bw", 80)
+    assert (scenario.cycle_s, scenario.tag_window_m) == (CYCLE_S, TAG_WINDOW_M)
+
+
+@pytest.mark.slow
+def test_past_the_top_of_the_range_the_simulator_stops():
+    with pytest.raises(SafetyViolation, match="past the tag window"):
+        measured_minimum("relative_braking", speed_range_kmh()[1] + 1)
 
 
 @pytest.mark.parametrize(

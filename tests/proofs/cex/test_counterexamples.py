@@ -1,6 +1,6 @@
-"""Counterexample debugging: the VCD waveform and the PNG plot beside the JSON and CSV, the float run
-of `atcs replay` against the exact one, and smoothing (the fewest input changes) with its minimality checked by
-a solver of its own."""
+"""Counterexample debugging: the VCD waveform and the PNG plot (units, styles, axes around the train) beside the
+JSON and CSV, `atcs replay`'s readable values and its float run against the exact one, and smoothing (the fewest
+input changes) with its minimality checked by a solver of its own."""
 
 import dataclasses
 import io
@@ -10,6 +10,7 @@ from fractions import Fraction
 
 import pytest
 import z3
+from rich.console import Console
 from vcd.reader import TokenKind, tokenize
 
 from atcs.model import position
@@ -19,10 +20,11 @@ from atcs.model.ops.symbolic import fresh_context, unwrap
 from atcs.model.supervision import supervise
 from atcs.proofs.cex import smoothing as smoothing_module
 from atcs.proofs.cex.float_replay import float_replay
-from atcs.proofs.cex.plot import plot_fields
+from atcs.proofs.cex.plot import FAR, STYLES, axis_range, counterexample_figure, legend_label, line_style, plot_fields
 from atcs.proofs.cex.trace import Trace, input_changes, replay, reproduce, to_json
 from atcs.proofs.cex.vcd import cycle_s, timescale, to_vcd
 from atcs.proofs.cli import main
+from atcs.proofs.cli.replay import _print_exact
 from atcs.proofs.engine.bmc import Bmc, Check
 from atcs.proofs.engine.prove import prove
 from atcs.proofs.engine.system import Unrolling
@@ -231,6 +233,52 @@ class TestPlot:
         node = PROPERTIES["resources.mutual_exclusion"].node
         assert ("inputs", f"send[{node.sizes['send'] - 1}]") in fields.lanes
 
+    @pytest.mark.parametrize(
+        ("field", "label"),
+        [
+            (("inputs", "measured_speed_mps"), "inputs.measured_speed"),
+            (("state", "front_m"), "state.front"),
+            (("state", "cells_m[2]"), "state.cells[2]"),
+            (("outputs", "eb_latched"), "outputs.eb_latched"),
+            (("inputs", "gradient_permille"), "inputs.gradient_permille"),
+        ],
+    )
+    def test_legends_name_fields_without_their_unit(self, field, label):
+        assert legend_label(field) == label
+
+    def test_every_trace_has_its_own_style_the_first_drawn_thickest(self):
+        styles = [line_style(j, len(STYLES)) for j in range(len(STYLES))]
+        assert len({(str(s["linestyle"]), s["marker"]) for s in styles}) == len(STYLES)
+        widths = [s["linewidth"] for s in styles]
+        assert widths == sorted(widths, reverse=True) and widths[0] > widths[-1]
+
+    def test_axis_around_the_reference_far_values_left_out(self):
+        low, high = axis_range([0.0, 10.0], [0.0, 5.0, -17.5, 1e6, -1e6])
+        assert low < -17.5 and 10 < high < FAR + 10
+        assert axis_range([], [1.0, 1e6])[1] > 1e6  # no reference: every value
+        assert axis_range([5.0], [5.0]) == (4.0, 6.0)  # one value: a margin all the same
+
+    def test_plot_scaled_around_the_train_with_units_on_the_axes(self, false_alarm):
+        """The POS-12 mutant's counterexample with a tachometer reading of a million metres: the location axis
+        stays around the train, the reading is drawn at its top edge with its value."""
+        prop, result, _ = false_alarm
+        trace = result.trace
+        inputs = [dict(trace.inputs[0], tacho_m=Fraction(10**6)), *trace.inputs[1:]]
+        edited = dataclasses.replace(trace, inputs=inputs)
+        fig = counterexample_figure(prop.node, edited, replay(prop, edited))
+        axes = {ax.get_ylabel(): ax for ax in fig.axes}
+        locations = axes["location (m)"]
+        front = [float(s["front_m"]) for s in trace.states]
+        low, high = locations.get_ylim()
+        assert low <= min(front) and max(front) <= high < FAR
+        assert "1e+06" in [t.get_text() for t in locations.texts]
+        legend = locations.get_legend()
+        assert legend.get_title().get_text() == "location (m)"
+        labels = [t.get_text() for t in legend.get_texts()]
+        assert "inputs.tacho" in labels and not any(label.endswith(("_m", "_mps")) for label in labels)
+        speeds = [t.get_text() for t in axes["speed (km/h)"].get_legend().get_texts()]
+        assert "state.speed" in speeds and not any("_mps" in label for label in speeds)
+
     def test_counterexample_files(self, false_alarm, tmp_path):
         prop, result, _ = false_alarm
         path = write_counterexample(tmp_path, prop, result)
@@ -333,6 +381,27 @@ class TestFloatReplay:
         assert (
             "the float run diverges: a boolean differs first at step 0, outputs.warning: exact True, float False" in out
         )
+
+    def test_cli_shows_decimals_beside_the_exact_values(self, latch, registered, tmp_path, capsys):
+        mutant, result = latch
+        registered(mutant)
+        trace = _boundary_trace(mutant, result)
+        path = tmp_path / "cex.json"
+        path.write_text(json.dumps(to_json(trace, replay(mutant, trace))))
+        main(["replay", str(path)])
+        out = capsys.readouterr().out
+        assert "0.1 (0.099999999999999999999999999999)" in out  # 0.1 - 1e-30: rounded, then exact
+        assert " 0.1 │" in out  # exactly 0.1: no exact value beside it
+
+    def test_a_narrow_table_folds_long_values_never_cuts_them(self, latch):
+        mutant, result = latch
+        trace = _boundary_trace(mutant, result)
+        console = Console(file=io.StringIO(), width=40)
+        _print_exact(console, mutant, trace, replay(mutant, trace), "cex.json")
+        out = console.file.getvalue()
+        assert "…" not in out
+        column = "".join(line.split("│")[2].strip() for line in out.splitlines() if line.startswith("│"))
+        assert "0.1(0.099999999999999999999999999999)" in column  # the step's column, its lines joined
 
     def test_cli_shows_the_largest_differences(self, false_alarm, registered, tmp_path, capsys):
         prop, result, _ = false_alarm

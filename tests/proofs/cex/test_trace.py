@@ -1,6 +1,10 @@
-"""Counterexample traces: exact values in files, round trips, and files that were edited or are malformed."""
+"""Counterexample traces: exact values in files, readable values on screen and in the CSV, round trips, and files
+that were edited or are malformed."""
 
+import csv
+import io
 import json
+import re
 from fractions import Fraction
 
 import pytest
@@ -13,6 +17,7 @@ from atcs.proofs.cex.trace import (
     TraceFileError,
     format_value,
     from_json,
+    readable_value,
     replay,
     reproduce,
     to_csv,
@@ -59,6 +64,31 @@ class TestValues:
     def test_decimal_when_finite(self, value, text):
         assert format_value(value) == text
 
+    @pytest.mark.parametrize(
+        ("value", "text"),
+        [
+            (Fraction(1, 10), "0.1"),
+            (Fraction(-5, 4), "-1.25"),
+            (Fraction(10**6), "1000000"),
+            (Fraction(1, 3), "0.333333 (1/3)"),
+            (Fraction(81757, 49152), "1.66335 (81757/49152)"),
+            (Fraction(1234567), "1.23457e+6 (1234567)"),
+            (Fraction(1, 10) - Fraction(1, 10**30), "0.1 (0.099999999999999999999999999999)"),
+            (True, "True"),
+            ((Fraction(1), Fraction(1, 3)), "[1, 0.333333 (1/3)]"),
+        ],
+    )
+    def test_readable_decimal_with_the_exact_value_when_it_differs(self, value, text):
+        assert readable_value(value) == text
+
+    @given(st.fractions())
+    def test_readable_value_rounds_to_six_digits_and_keeps_the_exact_one(self, value):
+        text = readable_value(value)
+        shown, exact = re.fullmatch(r"(\S+)(?: \((\S+)\))?", text).groups()
+        assert Fraction(exact or shown) == value
+        assert abs(Fraction(shown) - value) <= Fraction(5, 10**6) * abs(value)
+        assert (exact is None) == (Fraction(shown) == value)
+
 
 class TestFiles:
     def test_json_round_trip(self, falsified, tmp_path):
@@ -72,6 +102,17 @@ class TestFiles:
         lines = to_csv(result.trace, result.replay).splitlines()
         assert len(lines) == 1 + len(result.trace.inputs)
         assert lines[-1].endswith(",False,True")  # holds=False, violation=True on the last step
+
+    def test_csv_numbers_are_the_decimals_of_the_nearest_doubles(self, falsified):
+        _, result = falsified
+        trace = result.trace
+        third = dict(trace.inputs[0], speed_mps=Fraction(1, 3), permitted_mps=Fraction(7))
+        edited = type(trace)(trace.property, trace.node, 0, trace.params, trace.states[:2], [third])
+        rows = list(csv.DictReader(io.StringIO(to_csv(edited, result.replay))))
+        assert rows[0]["input.speed_mps"] == "0.3333333333333333" and rows[0]["input.permitted_mps"] == "7"
+        for name, value in third.items():
+            cell = rows[0][f"input.{name}"]
+            assert cell == str(value) if isinstance(value, bool) else float(cell) == float(value)
 
     def test_edited_trace_is_not_a_run_of_the_model(self, falsified, tmp_path):
         mutant, result = falsified

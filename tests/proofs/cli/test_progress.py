@@ -1,0 +1,42 @@
+"""Long runs are never silent: in a log a run prints where it is with the time left, and Ctrl-C prints what the
+run has so far."""
+
+import io
+
+from rich.console import Console
+
+from atcs.proofs.cli import _common, main
+from atcs.proofs.cli._common import EXIT_INTERRUPTED, progress_bar
+from atcs.sim import simulator
+
+
+def test_a_log_gets_the_position_and_the_time_left(monkeypatch):
+    monkeypatch.setattr(_common, "LOG_EVERY_S", 0.0)
+    log = io.StringIO()
+    with progress_bar(Console(file=log), "cycles", 10) as bar:
+        bar.at(5)
+    (line,) = [line for line in log.getvalue().splitlines() if line.strip()]
+    assert line.startswith("cycles: 5/10 (50 %), ") and line.endswith(" s left"), line
+
+
+def test_a_log_is_not_flooded(monkeypatch):
+    monkeypatch.setattr(_common, "LOG_EVERY_S", 3600.0)
+    log = io.StringIO()
+    with progress_bar(Console(file=log), "cycles", 10) as bar:
+        for completed in range(10):
+            bar.at(completed)
+    assert log.getvalue().strip() == ""
+
+
+def test_an_interrupted_sim_prints_the_run_so_far(monkeypatch, capsys):
+    step = simulator.Simulation.step
+
+    def interrupted_after_100_cycles(self):
+        if self.step_count == 100:
+            raise KeyboardInterrupt
+        step(self)
+
+    monkeypatch.setattr(simulator.Simulation, "step", interrupted_after_100_cycles)
+    assert main(["sim", "seed000_protection_zone"]) == EXIT_INTERRUPTED
+    out = capsys.readouterr().out
+    assert "10.0 s simulated" in out and "interrupted at 10.0 s: no violation up to there" in out
