@@ -1,7 +1,8 @@
 """``atcs prove``: prove the registered properties; a table, the JSON and JUnit reports, counterexample files.
 
 Exit code 0 all proved, 1 some property falsified, 3 some vacuous, unknown or in error and none falsified (an
-``error`` verdict is never a pass), 2 bad input.
+``error`` verdict is never a pass), 2 bad input, 130 interrupted (Ctrl-C: the verdicts so far are printed, no
+report is written).
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import time
 from rich.table import Table
 
 from atcs.proofs.cli._common import (
+    EXIT_INTERRUPTED,
     add_jobs,
     add_only,
     check_outputs,
@@ -73,7 +75,6 @@ def add_parser(subparsers) -> None:
 
 def run(args, out, err) -> int:
     from atcs.proofs import report
-    from atcs.proofs.engine import suite
     from atcs.proofs.files import write_atomic
 
     props = selected_properties("prove", args.only)
@@ -82,14 +83,12 @@ def run(args, out, err) -> int:
         dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir},
     )
     start = time.monotonic()
-    results = {}
-    with progress_bar(err, "proving", len(props)) as bar:
-        for result in suite.run(
-            props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth, nominal=args.nominal
-        ):
-            results[result.name] = result
-            bar.done(f"{result.name}: {result.status}", f"{result.status} {result.name} ({result.seconds:.1f} s)")
+    results = _prove_all(props, args, err)
     wall = time.monotonic() - start
+    if len(results) < len(props):  # interrupted: what was proved so far, and nothing written
+        _print(out, [report.result_record(p, results[p.name], None) for p in props if p.name in results], wall)
+        out.print(f"[yellow]interrupted[/] after {len(results)} of {len(props)} properties; no report written")
+        return EXIT_INTERRUPTED
 
     records = []
     for prop in props:
@@ -111,6 +110,23 @@ def run(args, out, err) -> int:
         write_atomic(args.catalogue, catalogue_markdown(props, {r["name"]: r for r in records}))
     statuses = {r["status"] for r in records}
     return exit_code(against="falsified" in statuses, incomplete=bool(statuses & {"vacuous", "unknown", "error"}))
+
+
+def _prove_all(props: list, args, err) -> dict:
+    """The verdict of each property by name, as they finish (a line each in a log); fewer on Ctrl-C."""
+    from atcs.proofs.engine import suite
+
+    results = {}
+    with progress_bar(err, "proving", len(props)) as bar:
+        try:
+            for result in suite.run(
+                props, timeout_s=args.timeout, jobs=args.jobs, smooth=args.smooth, nominal=args.nominal
+            ):
+                results[result.name] = result
+                bar.done(f"{result.name}: {result.status}", f"{result.status} {result.name} ({result.seconds:.1f} s)")
+        except KeyboardInterrupt:
+            pass
+    return results
 
 
 def _print(out, records: list[dict], wall_s: float) -> None:

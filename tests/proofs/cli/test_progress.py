@@ -40,3 +40,22 @@ def test_an_interrupted_sim_prints_the_run_so_far(monkeypatch, capsys):
     assert main(["sim", "seed000_protection_zone"]) == EXIT_INTERRUPTED
     out = capsys.readouterr().out
     assert "10.0 s simulated" in out and "interrupted at 10.0 s: no violation up to there" in out
+
+
+def test_an_interrupted_prove_prints_the_verdicts_so_far(monkeypatch, capsys, tmp_path):
+    from atcs.proofs.engine import suite
+
+    run = suite.run
+
+    def interrupted_after_two(props, **kw):
+        for n, result in enumerate(run(props, **kw)):
+            if n == 2:
+                raise KeyboardInterrupt
+            yield result
+
+    monkeypatch.setattr(suite, "run", interrupted_after_two)
+    report = tmp_path / "r.json"
+    assert main(["prove", "--only", "supervision.*", "--json", str(report)]) == EXIT_INTERRUPTED
+    out = capsys.readouterr().out
+    assert "supervision.eb_above_ebi" in out and "supervision.brake_above_sbi" not in out
+    assert "interrupted after 2 of 12 properties; no report written" in out and not report.exists()
