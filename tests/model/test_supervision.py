@@ -181,7 +181,7 @@ class SupervisionMachine(RuleBasedStateMachine):
         assert self.fitted or not self.monitor.state.sb_latched
 
 
-TestSupervisionStateful = SupervisionMachine.TestCase
+TestSupervisionStateful = pytest.mark.slow(SupervisionMachine.TestCase)
 TestSupervisionStateful.settings = settings(max_examples=50, stateful_step_count=25)
 
 

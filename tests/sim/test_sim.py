@@ -276,6 +276,7 @@ class TestSeed002Outcomes:
         assert all(t.stats.emergency_brakes == 0 for t in sim.trains)
 
 
+@pytest.mark.slow
 class TestDoubleTrack:
     """Seed 002 §4.2: the double track with a turn-back at each end, as one closed track (sim/double_track.py), and
     its two wayside zones."""
@@ -490,6 +491,7 @@ class TestFaults:
             sim.step()
         assert any({r for r, h in enumerate(row) if h} - before for row, before in zip(sim.held, held, strict=True))
 
+    @pytest.mark.slow
     def test_a_stuck_door_holds_the_train(self, tmp_path):
         door = 'faults = [{ kind = "stuck_door", from_s = 90, until_s = 120 }]'
         _, records = _fault_run(tmp_path, line=STATION, leader=door, duration_s=125)
