@@ -1,7 +1,8 @@
 """``atcs certify``: write each proved property's certificate (SMT-LIB 2) and check it with z3 and cvc5.
 
 Exit code 0 every selected property certified, 1 a solver disagrees, 3 some property unconfirmed, not proved
-or in error (and none disagrees), 2 bad input.
+or in error (and none disagrees), 2 bad input, 130 interrupted (Ctrl-C: each certificate checked so far is
+printed, no certificates.json is written).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from pathlib import Path
 from rich.table import Table
 
 from atcs.proofs.cli._common import (
+    EXIT_INTERRUPTED,
     UsageError,
     add_jobs,
     add_only,
@@ -101,14 +103,13 @@ def run(args, out, err) -> int:
             depths = campaign.depths_from_report(args.report)
     else:
         depths = _prove_depths(wanted, args, err)
-    results = {}
     limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
-    with progress_bar(err, "certifying", sum(p.name in depths for p in wanted)) as bar:
-        for c in campaign.run(
-            wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit, z3_only=z3_only
-        ):
-            results[c.name] = c
-            bar.done(f"certified {c.name}", f"{c.own_status()} {c.name} (own checks, lemmas aside)")
+    results = _certify_all(campaign, wanted, depths, limits, z3_only, args, err)
+    if len(results) < sum(p.name in depths for p in wanted):  # interrupted: each certificate checked so far
+        for c in results.values():
+            out.print(f"{c.own_status()} {c.name} (own checks, lemmas aside; confirmed by {', '.join(c.confirmed_by)})")
+        out.print(f"[yellow]interrupted[/] after {len(results)} certificates; no certificates.json written")
+        return EXIT_INTERRUPTED
     campaign.settle(results, depths)
     wall = time.monotonic() - start
 
@@ -157,6 +158,21 @@ def run(args, out, err) -> int:
     )
     _print(out, records, wall, directory)
     return exit_code(against=counts["disagreement"] > 0, incomplete=counts["certified"] != len(records))
+
+
+def _certify_all(campaign, wanted: list, depths: dict, limits: dict, z3_only: set, args, err) -> dict:
+    """Each certificate by name, checked, as they finish (a line each in a log); fewer on Ctrl-C."""
+    results = {}
+    with progress_bar(err, "certifying", sum(p.name in depths for p in wanted)) as bar:
+        try:
+            for c in campaign.run(
+                wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit, z3_only=z3_only
+            ):
+                results[c.name] = c
+                bar.done(f"certified {c.name}", f"{c.own_status()} {c.name} (own checks, lemmas aside)")
+        except KeyboardInterrupt:
+            pass
+    return results
 
 
 def _prove_depths(wanted: list, args, err) -> dict[str, int]:

@@ -59,3 +59,24 @@ def test_an_interrupted_prove_prints_the_verdicts_so_far(monkeypatch, capsys, tm
     out = capsys.readouterr().out
     assert "supervision.eb_above_ebi" in out and "supervision.brake_above_sbi" not in out
     assert "interrupted after 2 of 12 properties; no report written" in out and not report.exists()
+
+
+def test_an_interrupted_certify_prints_the_certificates_so_far(monkeypatch, capsys, tmp_path):
+    from atcs.proofs.certify import campaign
+
+    run = campaign.run
+
+    def interrupted_after_one(*args, **kw):
+        for n, certificate in enumerate(run(*args, **kw)):
+            if n == 1:
+                raise KeyboardInterrupt
+            yield certificate
+
+    monkeypatch.setattr(campaign, "run", interrupted_after_one)
+    directory = tmp_path / "cert"
+    argv = ["certify", "--only", "supervision.eb_above_ebi", "--only", "supervision.sb_only_if_fitted"]
+    assert main([*argv, "--dir", str(directory)]) == EXIT_INTERRUPTED
+    out = capsys.readouterr().out
+    assert "certified supervision.eb_above_ebi (own checks, lemmas aside; confirmed by z3, cvc5)" in out
+    assert "interrupted after 1 certificates; no certificates.json written" in out
+    assert not (directory / "certificates.json").exists()
