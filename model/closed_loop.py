@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
 
-from atcs.model.curves import Target, gradient_acceleration_mps2
+from atcs.model.curves import DESIGN_CASE_SIZES, Target, gradient_acceleration_mps2
 from atcs.model.dynamic_profile import exceedances, limits_at
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
@@ -131,17 +131,6 @@ def closed_loop_admits(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: Close
     return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
 
 
-CLOSED_LOOP_SIZES = {
-    "gradient_starts_m": 2,
-    "gradient_permille": 2,
-    "emergency_speeds_mps": 1,
-    "emergency_decelerations_mps2": 1,
-    "service_speeds_mps": 1,
-    "service_decelerations_mps2": 1,
-}
-"""The array sizes of the closed-loop proofs: 2 compensated-gradient segments (the design pair), one-step brake
-tables; the two-train node has the same."""
-
 CLOSED_LOOP = Node(
     name="closed_loop",
     params=ClosedLoopParams,
@@ -151,7 +140,7 @@ CLOSED_LOOP = Node(
     init=closed_loop_init,
     step=closed_loop_step,
     seed="000 §2.4, §2.5",
-    sizes=CLOSED_LOOP_SIZES,
+    sizes=DESIGN_CASE_SIZES,
 )
 """ATP + plant for proofs: 2 compensated-gradient segments, one-step brake tables."""
 

@@ -223,6 +223,18 @@ def curves_step(o: Ops, p: CurveParams, s: Stateless, i: CurveQuery):
     return s, CurveOutputs(**{name: getattr(locations, name) for name in CurveLocations.__dataclass_fields__})
 
 
+DESIGN_CASE_SIZES = {
+    "gradient_starts_m": 2,
+    "gradient_permille": 2,
+    "emergency_speeds_mps": 1,
+    "emergency_decelerations_mps2": 1,
+    "service_speeds_mps": 1,
+    "service_decelerations_mps2": 1,
+}
+"""The array sizes of the proofs' design case: 2 compensated-gradient segments (the design pair), one-step brake
+tables; the curves, closed-loop and two-train nodes share them."""
+
+
 CURVES = stateless_node(
     name="curves",
     params=CurveParams,
@@ -230,14 +242,7 @@ CURVES = stateless_node(
     outputs=CurveOutputs,
     step=curves_step,
     seed="000 §2.4, 002 §3.2",
-    sizes={
-        "gradient_starts_m": 2,
-        "gradient_permille": 2,
-        "emergency_speeds_mps": 1,
-        "emergency_decelerations_mps2": 1,
-        "service_speeds_mps": 1,
-        "service_decelerations_mps2": 1,
-    },
+    sizes=DESIGN_CASE_SIZES,
 )
 """The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
 and the query speed and acceleration symbolic; train and national data as each property fixes them."""

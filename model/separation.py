@@ -20,8 +20,8 @@ from atcs.model.authority import (
     AuthorityState,
     authority_step,
 )
-from atcs.model.closed_loop import CLOSED_LOOP_SIZES, ClosedLoopInputs, atp_cycle
-from atcs.model.curves import MIN_SPAN
+from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle
+from atcs.model.curves import DESIGN_CASE_SIZES, MIN_SPAN
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import PlantParams, PlantState, plant_admits, plant_init, plant_next
@@ -160,7 +160,7 @@ TWO_TRAINS = Node(
     step=two_train_step,
     seed="001 §3.2 (Fig. 6), 000 §2.2, §2.5",
     sizes={
-        **CLOSED_LOOP_SIZES,
+        **DESIGN_CASE_SIZES,
         **{
             name: PROOF_RESOURCES
             for name in (
