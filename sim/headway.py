@@ -68,6 +68,8 @@ LOWEST_STEADY_KMH = Fraction(65)
 """The lowest speed at which :func:`measured_minimum`, with its defaults, settles in both modes (measured: 65 km/h
 does, 62 and 60 km/h do not): below it the follower, held back by its leader, dips more than
 ``speed_tolerance_kmh`` under the speed within the settling window."""
+RUN_S = 200
+"""A closed-loop measurement runs this long (s) by default."""
 
 
 def speed_range_kmh(tag_window_m=TAG_WINDOW_M) -> tuple[Fraction, Fraction]:
@@ -495,13 +497,14 @@ def measured_minimum(
     speed_kmh=80,
     *,
     resource_length_m=50,
-    duration_s=200,
+    duration_s=RUN_S,
     follower_depart_s=None,
     approach_m=15,
     settle_s=60,
     settle_m=5,
     speed_tolerance_kmh=2,
     follower_data: TrainData | None = None,
+    on_cycle: Callable[[Simulation], None] = lambda sim: None,
     **options,
 ) -> HeadwayFigure:
     """The steady-state gap of the closed-loop simulator (seed 000 §2.5): a leader at ``speed_kmh`` and a follower
@@ -514,7 +517,7 @@ def measured_minimum(
     in which both trains stay within ``speed_tolerance_kmh`` of ``speed_kmh`` (the ATO cruises up to 0.3 m/s under
     its target, and the follower brakes a little more at its limit) and the gap within ``settle_m``; the follower
     must have been held back (braked while running) and its end of authority not limited by ``max_ma_m``.
-    Otherwise :class:`HeadwayError`."""
+    Otherwise :class:`HeadwayError`. ``on_cycle`` is called after each cycle of the run."""
     mode, speed_kmh = _mode(mode), _number("speed_kmh", speed_kmh)
     settle_s, settle_m = _number("settle_s", settle_s), _number("settle_m", settle_m)
     tolerance, duration = _number("speed_tolerance_kmh", speed_tolerance_kmh), _number("duration_s", duration_s)
@@ -556,6 +559,7 @@ def measured_minimum(
 
     def sample(sim: Simulation) -> None:
         nonlocal held_back
+        on_cycle(sim)
         lead, follow = sim.trains
         speed = follow.speed_mps * kmh
         held_back += bool(samples) and 0 < speed < samples[-1][2]  # braking on a level line: its limits hold it back
@@ -625,14 +629,25 @@ def measured_minimum(
     )
 
 
-def headway_report(speed_kmh=80, on_mode: Callable[[str], None] = lambda mode: None, **options) -> list[dict]:
+def headway_report(
+    speed_kmh=80,
+    on_mode: Callable[[str], None] = lambda mode: None,
+    progress: Callable[[int, int], None] = lambda done, total: None,
+    **options,
+) -> list[dict]:
     """One row per mode: the measured gap and headway (``options``: :func:`measured_minimum`'s), the
     ATP-limited and the invariant's theoretical ones, and the resource length the measurement used; ``on_mode``
-    is called with each mode before its closed-loop run."""
+    is called with each mode before its closed-loop run, ``progress(done, total)`` after each cycle of the runs."""
     rows = []
-    for mode in MODES:
+    cycles = round(_number("duration_s", options.get("duration_s", RUN_S)) / CYCLE_S)
+    for n, mode in enumerate(MODES):
         on_mode(mode)
-        measured = measured_minimum(mode, speed_kmh, **options)
+        measured = measured_minimum(
+            mode,
+            speed_kmh,
+            on_cycle=lambda sim, n=n: progress(n * cycles + sim.step_count, len(MODES) * cycles),
+            **options,
+        )
         theory = {
             k: v
             for k, v in options.items()

@@ -1,7 +1,8 @@
 """Benchmarks: measured side by side in one run, reported as ratios (never as timed unit tests).
 
-``BENCHMARKS`` registers them by name for ``atcs bench [NAME]``; the first line of each one's docstring is its
-summary in ``atcs bench --help``.
+``BENCHMARKS`` registers them by name for ``atcs bench [NAME]``: each takes the console its tables go to and a
+keyword ``progress`` (:data:`Progress`); the first line of each one's docstring is its summary in
+``atcs bench --help``.
 """
 
 from __future__ import annotations
@@ -27,6 +28,9 @@ from atcs.proofs.bench.cycle import bench_cycle
 from atcs.proofs.bench.sim import bench_sim
 
 CYCLE_S = 0.1  # one ATP cycle (seed 001)
+
+Progress = Callable[[int, int], None]
+"""``progress(done, total)``: how far a benchmark is, in units of its own (``atcs bench`` shows the time left)."""
 
 
 def _median_time(fn: Callable[[], object], repeats: int) -> float:
@@ -56,7 +60,9 @@ def _supervision_inputs(trains: int, rng: np.random.Generator):
     )
 
 
-def bench_supervision(console: Console, trains: int = 1000, repeats: int = 7) -> dict[str, float]:
+def bench_supervision(
+    console: Console, trains: int = 1000, repeats: int = 7, progress: Progress = lambda done, total: None
+) -> dict[str, float]:
     """One supervision cycle for a fleet: numpy batch vs scalar float loop vs exact Fractions."""
     rng = np.random.default_rng(20261122)
     batch = _supervision_inputs(trains, rng)
@@ -88,8 +94,11 @@ def bench_supervision(console: Console, trains: int = 1000, repeats: int = 7) ->
         assert bool(out.emergency_brake[t]) == step(EXACT, params_batch, state_one, exacts[t])[1].emergency_brake
 
     t_batch = _median_time(numpy_batch, repeats)
+    progress(1, 3)
     t_float = _median_time(float_loop, repeats)
+    progress(2, 3)
     t_exact = _median_time(exact_loop, repeats)
+    progress(3, 3)
     table = Table(title=f"bench supervision: one cycle for {trains} trains (median of {repeats})")
     for col in ("backend", "per cycle (ms)", "per train (µs)", "share of 100 ms cycle", "vs numpy batch"):
         table.add_column(col, justify="left" if col == "backend" else "right")
@@ -137,7 +146,7 @@ def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -
     return np.minimum(table[:line_m], table[width - span : width - span + line_m])
 
 
-def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
+def bench_mrsp(console: Console, repeats: int = 5, progress: Progress = lambda done, total: None) -> dict[str, float]:
     """Apply and withdraw a speed restriction: the incremental window update against whole-line recomputations.
 
     A 30 km/h restriction on the seed 002 line and on a line 10x longer (float backend, same step functions)."""
@@ -185,6 +194,7 @@ def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
         ):
             seconds = _median_time(fn, reps)
             rows.setdefault(name, []).append(seconds)
+            progress(sum(map(len, rows.values())), 8)
             results[f"{name} @ {scale}x"] = seconds
 
     title = ", ".join(f"{line_m / 1000:g} km: {pisl_n} PISL / {psl_n} PSL segments" for line_m, pisl_n, psl_n in sizes)
@@ -207,7 +217,7 @@ def bench_mrsp(console: Console, repeats: int = 5) -> dict[str, float]:
     return results
 
 
-BENCHMARKS: dict[str, Callable[[Console], object]] = {
+BENCHMARKS: dict[str, Callable[..., object]] = {
     "supervision": bench_supervision,
     "mrsp": bench_mrsp,
     "cycle": bench_cycle,

@@ -5,6 +5,7 @@ time. Measured side by side in one run; the two formulations' decisions are chec
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 import numpy as np
 from rich.console import Console
@@ -80,7 +81,12 @@ def per_metre_cycle(t, n, horizon: Horizon, front_m: float, speed_mps: float, a_
     }
 
 
-def bench_cycle(console: Console, cycles: int = 60, prove_closed_loop: bool = True) -> dict[str, float]:
+def bench_cycle(
+    console: Console,
+    cycles: int = 60,
+    prove_closed_loop: bool = True,
+    progress: Callable[[int, int], None] = lambda done, total: None,
+) -> dict[str, float]:
     """Median time of one supervision cycle, segments against per-metre arrays; the closed-loop proofs."""
     rng = np.random.default_rng(20261122)
     t, n = seed000_train(), subset026_national()
@@ -92,7 +98,10 @@ def bench_cycle(console: Console, cycles: int = 60, prove_closed_loop: bool = Tr
         horizon = synthetic_horizon(rng)
         cases.append((horizon, float(rng.uniform(0, 1200)), float(rng.uniform(0, 80 / 3.6))))
     segment_s, metre_s, agree, compared, targets = [], [], 0, 0, []
+    proofs = _closed_loop_properties() if prove_closed_loop else []
+    total = cycles + len(proofs)
     for horizon, front, speed in cases:
+        progress(len(segment_s), total)
         t0 = time.perf_counter()
         over, curve, _ = segment_cycle(t_f, n_f, horizon, front, speed, a_est)
         t1 = time.perf_counter()
@@ -124,8 +133,8 @@ def bench_cycle(console: Console, cycles: int = 60, prove_closed_loop: bool = Tr
         "(any difference within the arrays' 1 m rounding of a curve)"
     )
     results = {"segments_s": seg, "per_metre_s": arr, "agree": agree, "compared": compared}
-    if prove_closed_loop:
-        results.update(_closed_loop_proofs(console))
+    if proofs:
+        results.update(_closed_loop_proofs(console, proofs, lambda done: progress(cycles + done, total)))
     return results
 
 
@@ -135,13 +144,20 @@ def _float(value):
     return value if isinstance(value, bool) else float(value)
 
 
-def _closed_loop_proofs(console: Console) -> dict[str, float]:
-    from atcs.proofs.engine.suite import run
+def _closed_loop_properties() -> list:
     from atcs.properties import select
 
-    props = select("closed_loop.*")
+    return select("closed_loop.*")
+
+
+def _closed_loop_proofs(console: Console, props: list, progress: Callable[[int], None]) -> dict[str, float]:
+    from atcs.proofs.engine.suite import run
+
     t0 = time.perf_counter()
-    results = list(run(props, timeout_s=600, jobs=1))
+    results = []
+    for result in run(props, timeout_s=600, jobs=1):
+        results.append(result)
+        progress(len(results))
     wall = time.perf_counter() - t0
     table = Table(title=f"closed-loop proofs: {len(props)} properties in {wall:.1f} s (one process)")
     for col in ("property", "status", "k", "seconds"):

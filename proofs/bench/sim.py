@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import time
+from collections.abc import Callable
 from fractions import Fraction
 
 from rich.console import Console
@@ -45,19 +46,29 @@ def fleet_scenario(trains: int):
 
 
 def bench_sim(
-    console: Console, fleets: tuple[int, ...] = FLEETS, warm_up: int = WARM_UP_CYCLES, cycles: int = TIMED_CYCLES
+    console: Console,
+    fleets: tuple[int, ...] = FLEETS,
+    warm_up: int = WARM_UP_CYCLES,
+    cycles: int = TIMED_CYCLES,
+    progress: Callable[[int, int], None] = lambda done, total: None,
 ) -> dict[str, float]:
     """Wall time per cycle and per train-cycle, and the real-time factor, for each fleet size."""
     results: dict[str, float] = {}
     rows = []
+    total, done = (warm_up + cycles) * sum(fleets), 0  # in train-cycles
     for trains in fleets:
         sim = Simulation(fleet_scenario(trains))
         for _ in range(warm_up):
             sim.step()
-        t0 = time.perf_counter()
+            done += trains
+            progress(done, total)
+        wall_s = 0.0
         for _ in range(cycles):
+            t0 = time.perf_counter()
             sim.step()
-        wall_s = time.perf_counter() - t0
+            wall_s += time.perf_counter() - t0
+            done += trains
+            progress(done, total)
         per_cycle_s = wall_s / cycles
         rows.append((trains, per_cycle_s, sim.dt / per_cycle_s))
         console.print(f"bench sim: {trains} trains, {per_cycle_s * 1e3:.1f} ms a cycle")

@@ -11,15 +11,15 @@ property, not one per check. Each solver has its own per-check time limit.
 from __future__ import annotations
 
 import json
-import multiprocessing
 from collections.abc import Callable, Collection, Iterator, Mapping
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
 
 from atcs.model.errors import AtcsInputError
 from atcs.proofs.certify.obligations import SOLVERS, Obligation, SolverCheck, check_obligation, obligations
+from atcs.proofs.workers import worker_pool
 from atcs.properties import PROPERTIES, Property
 
 
@@ -165,7 +165,7 @@ def run(
             on_start(prop)
             yield certify_one(prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only)
         return
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with worker_pool(jobs) as pool:
         futures = []
         for prop in todo:
             on_start(prop)

@@ -161,9 +161,10 @@ class Bar:
         if not self.console.is_terminal:
             print(log_line or what, file=self.console.file, flush=True)
 
-    def at(self, completed: int) -> None:
-        """Move the bar to ``completed`` items; in a log, say so with the time left every :data:`LOG_EVERY_S`."""
-        self.progress.update(self.task, completed=completed)
+    def at(self, completed: int, total: int | None = None) -> None:
+        """Move the bar to ``completed`` items (of ``total``, if given, from now on); in a log, say so with the time
+        left every :data:`LOG_EVERY_S`."""
+        self.progress.update(self.task, completed=completed, total=total)
         now = time.monotonic()
         if self.console.is_terminal or now - self.logged_s < LOG_EVERY_S:
             return

@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from atcs.proofs.cli._common import EXIT_OK, UsageError
+from atcs.proofs.cli._common import EXIT_OK, UsageError, progress_bar
 
 
 def add_parser(subparsers) -> None:
@@ -48,6 +48,7 @@ def run(args, out, err) -> int:
     for name in [args.name] if args.name else list(BENCHMARKS):
         err.print(f"bench {name}: running")
         start = time.monotonic()
-        BENCHMARKS[name](out)
+        with progress_bar(err, f"bench {name}", 1) as bar:
+            BENCHMARKS[name](out, progress=bar.at)
         err.print(f"bench {name}: done in {time.monotonic() - start:.0f} s")
     return EXIT_OK

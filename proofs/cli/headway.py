@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from rich.table import Table
 
-from atcs.proofs.cli._common import EXIT_OK, UsageError, reraised
+from atcs.proofs.cli._common import EXIT_OK, UsageError, progress_bar, reraised
 
 
 def add_parser(subparsers) -> None:
@@ -42,10 +42,11 @@ def run(args, out, err) -> int:
     with reraised("", ProfileError):
         speed = parse_number("headway", "--speed", args.speed, ProfileError)
     _check_speed(args.speed, speed)
-    with reraised("headway: ", HeadwayError):
+    with reraised("headway: ", HeadwayError), progress_bar(err, "cycles", 1) as bar:
         rows = headway_report(
             speed,
             on_mode=lambda mode: err.print(f"headway: measuring {mode} at {float(speed):g} km/h (a closed-loop run)"),
+            progress=bar.at,
         )
     table = Table(
         title=f"headway at a steady {float(speed):g} km/h: gap from the follower's front to the leader's "

@@ -2,18 +2,20 @@
 mutant; the kill rate per module, the survivors with their diff.
 
 Exit code 0 every counted mutant killed (or equivalent), 1 some mutant survived, 3 some timed out and none
-survived, 2 bad input.
+survived, 2 bad input, 130 interrupted (Ctrl-C: the outcomes so far are printed, no report written).
 """
 
 from __future__ import annotations
 
 import json
 import time
+from contextlib import suppress
 
 from rich.table import Table
 
 from atcs.proofs.cli._common import (
     EXIT_FALSIFIED,
+    EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_UNKNOWN,
     UsageError,
@@ -82,18 +84,13 @@ def run(args, out, err) -> int:
         return EXIT_OK
 
     start = time.monotonic()
-    with progress_bar(err, "mutating", len(selected)) as bar:
-        outcomes = campaign.run(
-            selected,
-            timeout_s=args.timeout,
-            jobs=args.jobs,
-            equivalent=equivalent,
-            nodes=nodes,
-            on_done=lambda o: bar.done(f"{o.mutant.id}: {o.verdict}", f"{o.verdict} {o.mutant.id} ({o.seconds:.1f} s)"),
-        )
+    outcomes = _mutate_all(campaign, selected, equivalent, nodes, args, err)
     wall = time.monotonic() - start
     rates = campaign.kill_rates(outcomes)
     _print(out, outcomes, rates, wall)
+    if len(outcomes) < len(selected):  # interrupted: the outcomes so far, and nothing written
+        out.print(f"[yellow]interrupted[/] after {len(outcomes)} of {len(selected)} mutants; no report written")
+        return EXIT_INTERRUPTED
     if args.json:
         doc = {
             "tool": "atcs mutate",
@@ -109,6 +106,20 @@ def run(args, out, err) -> int:
     if "survived" in verdicts:
         return EXIT_FALSIFIED
     return EXIT_UNKNOWN if "timeout" in verdicts else EXIT_OK
+
+
+def _mutate_all(campaign, selected: list, equivalent: dict, nodes, args, err) -> list:
+    """Each mutant's outcome, as they finish (a line each in a log); fewer on Ctrl-C."""
+    outcomes = []
+
+    def done(o) -> None:
+        outcomes.append(o)
+        bar.done(f"{o.mutant.id}: {o.verdict}", f"{o.verdict} {o.mutant.id} ({o.seconds:.1f} s)")
+
+    with progress_bar(err, "mutating", len(selected)) as bar, suppress(KeyboardInterrupt):
+        campaign.run(selected, timeout_s=args.timeout, jobs=args.jobs, equivalent=equivalent, nodes=nodes, on_done=done)
+    order = {m.id: i for i, m in enumerate(selected)}
+    return sorted(outcomes, key=lambda o: order[o.mutant.id])
 
 
 def _selected(args, mutants) -> tuple[list, tuple[str, ...] | None]:
@@ -139,7 +150,7 @@ def _print(out, outcomes, rates, wall_s: float) -> None:
         table.add_column(heading, justify="left" if heading == "module" else "right")
     for module, r in rates.items():
         rate = "-" if r["kill_rate"] is None else f"{100 * r['kill_rate']:.1f} %"
-        table.add_row(module, *(str(r[v]) for v in campaign.VERDICTS), rate, end_section=module == list(rates)[-2])
+        table.add_row(module, *(str(r[v]) for v in campaign.VERDICTS), rate, end_section=module == [None, *rates][-2])
     out.print(table)
     for o in outcomes:
         if o.verdict in ("survived", "timeout", "incompetent"):

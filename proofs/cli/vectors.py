@@ -2,13 +2,15 @@
 
 Exit codes: ``generate`` 0 every goal settled (covered or shown infeasible), 3 some unknown (a property or a step
 that could not be built among them: one line each on stderr); ``verify`` 0 every file verified, 1 a problem;
-``check`` 0 every vector passed, 1 one failed or the implementation stopped; all 2 for bad input.
+``check`` 0 every vector passed, 1 one failed or the implementation stopped; all 2 for bad input; ``generate``
+130 interrupted (Ctrl-C: the functions generated so far are printed, their files written, no other).
 """
 
 from __future__ import annotations
 
 import sys
 import time
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -16,6 +18,7 @@ from rich.table import Table
 
 from atcs.proofs.cli._common import (
     EXIT_FALSIFIED,
+    EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_UNKNOWN,
     Parser,
@@ -167,24 +170,12 @@ def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float) ->
 
 
 def generate(args, out, err) -> int:
-    from concurrent.futures import ProcessPoolExecutor
-
     names = _functions("generate", args.function)
     check_outputs(dirs={"--out": args.out})
     start = time.monotonic()
-    jobs = [(n, args.out, args.timeout, args.budget) for n in names]
-    rows = []
-    with progress_bar(err, "generating", len(jobs)) as bar, ProcessPoolExecutor(args.jobs) as pool:
-        done = (
-            (_generate_one(*job) for job in jobs)
-            if args.jobs == 1
-            else pool.map(_generate_one, *zip(*jobs, strict=True))
-        )
-        for row in done:
-            rows.append(row)
-            bar.done(f"generated {row.function}: {row.vectors} vectors")
+    rows = _generate_all([(n, args.out, args.timeout, args.budget) for n in names], args.jobs, err)
     table = Table(
-        title=f"atcs vectors generate: {len(names)} functions in {time.monotonic() - start:.1f} s ({args.out})"
+        title=f"atcs vectors generate: {len(rows)} functions in {time.monotonic() - start:.1f} s ({args.out})"
     )
     for heading in ("function", "vectors", "requirements", "boundaries", "MC/DC", "not covered", "seconds"):
         table.add_column(heading, justify="left" if heading == "function" else "right")
@@ -194,7 +185,26 @@ def generate(args, out, err) -> int:
     for row in rows:
         for error in row.errors:
             print(f"atcs: vectors generate: {row.function}: {error}", file=sys.stderr)
+    if len(rows) < len(names):  # interrupted: the files of the functions above are written, no other
+        out.print(f"[yellow]interrupted[/] after {len(rows)} of {len(names)} functions; only their files are written")
+        return EXIT_INTERRUPTED
     return EXIT_UNKNOWN if any(row.incomplete for row in rows) else EXIT_OK
+
+
+def _generate_all(jobs: list[tuple], workers: int, err) -> list[_Generated]:
+    """Each function's vectors, generated and written, as they finish (a line each in a log); fewer on Ctrl-C."""
+    from atcs.proofs.workers import worker_pool
+
+    rows = []
+    with progress_bar(err, "generating", len(jobs)) as bar:
+        try:
+            with worker_pool(workers) if workers > 1 else nullcontext() as pool:
+                for row in (pool.map if pool else map)(_generate_one, *zip(*jobs, strict=True)):
+                    rows.append(row)
+                    bar.done(f"generated {row.function}: {row.vectors} vectors")
+        except KeyboardInterrupt:
+            pass
+    return rows
 
 
 def _vector_files(command: str, directory: str, names: list[str] | None = None) -> list:

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import multiprocessing
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 
 from atcs.proofs.engine.prove import Result, prove
+from atcs.proofs.workers import worker_pool
 from atcs.properties import PROPERTIES, Property
 
 _proved_in_this_worker: dict[str, Result] = {}
@@ -43,8 +43,7 @@ def run(
             on_start(prop)
             yield _prove_registered(prop.name, timeout_s, proved, smooth, nominal)
         return
-    # spawn, not fork: z3 contexts must not be shared with a forked child
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with worker_pool(jobs) as pool:
         futures = {}
         for prop in props:
             on_start(prop)

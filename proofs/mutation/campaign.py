@@ -20,17 +20,17 @@ from __future__ import annotations
 
 import dataclasses
 import fnmatch
-import multiprocessing
 import signal
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from functools import cache
 
 from atcs.proofs.mutation.mutants import MutantRun, patched
 from atcs.proofs.mutation.sites import Mutant, enumerate_mutants, node_functions
+from atcs.proofs.workers import worker_pool
 from atcs.properties.property import Property
 
 VERDICTS = ("killed", "survived", "timeout", "incompetent", "equivalent")
@@ -311,8 +311,7 @@ def run(
             outcomes[m.id] = run_mutant(m, timeout_s=timeout_s, nodes=nodes)
             on_done(outcomes[m.id])
     else:
-        # spawn, not fork: z3 contexts must not be shared with a forked child
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=multiprocessing.get_context("spawn")) as pool:
+        with worker_pool(jobs) as pool:
             futures = {pool.submit(_run_by_id, m.id, timeout_s, nodes): m for m in todo}
             for future in as_completed(futures):
                 o = future.result()

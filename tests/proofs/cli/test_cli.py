@@ -245,8 +245,10 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
     from atcs.proofs.bench.cycle import bench_cycle
 
     console = Console(record=True, width=160)
-    results = bench_cycle(console, cycles=5, prove_closed_loop=False)  # the proofs are timed by `atcs prove`
+    reported = []
+    results = bench_cycle(console, cycles=5, prove_closed_loop=False, progress=lambda *at: reported.append(at))
     assert results["agree"] == results["compared"] == 10
+    assert reported == [(done, 5) for done in range(5)]  # `atcs bench` shows the time left from these
     text = console.export_text()
     assert "share of 100 ms cycle" in text and "per-metre arrays" in text
 
@@ -257,7 +259,9 @@ def test_sim_benchmark_prints_the_cost_per_fleet():
     from atcs.proofs.bench.sim import bench_sim, fleet_scenario
 
     console = Console(record=True, width=160)
-    results = bench_sim(console, fleets=(2, 4), warm_up=5, cycles=10)  # the figures are for `atcs bench sim`
+    reported = []
+    results = bench_sim(console, fleets=(2, 4), warm_up=5, cycles=10, progress=lambda *at: reported.append(at))
+    assert reported[-1] == (15 * 6, 15 * 6) and len(reported) == 30  # a report a cycle, in train-cycles
     assert set(results) == {f"{n}_trains_{what}" for n in (2, 4) for what in ("cycle_s", "real_time_factor")}
     assert all(v > 0 for v in results.values())
     assert "real-time factor" in console.export_text()

@@ -1,0 +1,43 @@
+"""Worker processes for the long runs (prove, certify, mutate, vectors generate), stoppable at once on Ctrl-C.
+
+The workers ignore SIGINT: Ctrl-C interrupts the main process only, which cancels the work not started and
+terminates the workers, instead of waiting for every queued item as ``ProcessPoolExecutor``'s exit would (a
+worker interrupted in one item goes on to the next). Spawned, not forked: z3 contexts must not be shared with a
+forked child.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import signal
+from collections.abc import Iterator
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import contextmanager
+
+__all__ = ["worker_pool"]
+
+
+def _ignore_interrupts() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextmanager
+def worker_pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
+    """A pool of ``jobs`` spawned worker processes; leaving it by an exception (Ctrl-C included) cancels the work
+    not started and terminates the workers rather than waiting for them."""
+    if jobs < 1:
+        raise ValueError(f"jobs must be at least 1, got {jobs!r}")
+    pool = ProcessPoolExecutor(
+        max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_interrupts
+    )
+    try:
+        yield pool
+    except BaseException:
+        processes = list((pool._processes or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join()
+        raise
+    pool.shutdown(wait=True)
