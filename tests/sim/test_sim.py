@@ -5,6 +5,7 @@ import dataclasses
 import itertools
 import json
 from fractions import Fraction
+from pathlib import Path
 
 import pytest
 
@@ -143,6 +144,18 @@ def _assert_refused(tmp_path, text, change, message):
     assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
 
 
+MANUAL = Path(__file__).parents[2] / "docs" / "simulator.md"
+
+
+def _documented(scenario: str, *figures: str) -> None:
+    """The manual's outcome of ``scenario`` (its row in the shipped-scenario tables) states each of ``figures``,
+    formatted from the run as the manual writes them: a documented outcome is one the tests reproduce."""
+    rows = [line for line in MANUAL.read_text(encoding="utf-8").splitlines() if line.startswith(f"| `{scenario}` |")]
+    assert len(rows) == 1, f"docs/simulator.md has {len(rows)} rows for {scenario}"
+    missing = [f for f in figures if f not in rows[0]]
+    assert not missing, f"docs/simulator.md, {scenario}: the run gives {missing}; the manual says: {rows[0]}"
+
+
 def _train(sim, name):
     return next(t for t in sim.trains if t.spec.name == name)
 
@@ -221,6 +234,13 @@ class TestSeed000Outcomes:
             assert t.stats.max_speed_kmh > 79 and t.speed_mps == 0
         assert 14950 < t1.front_m < 15000  # stopped before the end of the line
         assert t2.stats.min_gap_m > 0 and t2.front_m < t1.front_m - 200
+        _documented(
+            "seed000_normal",
+            f"up to {int(t1.stats.max_speed_kmh)} km/h",
+            f"the leader stops {15000 - t1.front_m:.1f} m short",
+            f"the follower {t1.front_m - 200 - t2.front_m:,.0f} m behind its rear",
+            f"its MA ends at {t2.last['eoa_m']:,.0f} m",
+        )
 
     def test_service_brake_disabled_reaches_ebi_then_eb_stops_and_restarts(self, runs):
         sim, records = runs["seed000_service_brake_disabled"]
@@ -232,6 +252,11 @@ class TestSeed000Outcomes:
         released = next(k for k in range(stop, len(records)) if not records[k][0]["eb"])
         assert records[released][0]["t_s"] - records[stop][0]["t_s"] >= 5  # the driver's release at standstill
         assert train.front_m > 4000 and train.speed_mps > 0  # restarted and running once the zone is lifted
+        _documented(
+            "seed000_service_brake_disabled",
+            f"EB stops it at {records[stop][0]['front_m']:,.0f} m",
+            f"releases {records[released][0]['t_s'] - records[stop][0]['t_s']:.0f} s later",
+        )
 
     def test_follower_follows_a_slow_leader_without_collision(self, runs):
         sim, records = runs["seed000_slow_leader"]
@@ -243,12 +268,18 @@ class TestSeed000Outcomes:
         late = [r[1]["speed_kmh"] for r in records[-600:]]
         assert 30 < sum(late) / len(late) < 50  # at about the leader's 40 km/h
         assert follower.stats.emergency_brakes == 0
+        _documented(
+            "seed000_slow_leader",
+            f"closes from {gaps[0]:,.0f} m to about {round(min(gaps), -1):,.0f} m",
+            f"follows at about {round(sum(late) / len(late), -1):.0f} km/h",
+        )
 
     def test_train_stops_before_the_protection_zone(self, runs):
         sim, _ = runs["seed000_protection_zone"]
         (train,) = sim.trains
         assert 4950 < train.front_m < 5000 and train.speed_mps == 0
         assert (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+        _documented("seed000_protection_zone", f"stops {5000 - train.front_m:.1f} m before it")
 
 
 @pytest.mark.slow
@@ -257,23 +288,36 @@ class TestSeed002Outcomes:
 
     def test_temporary_restriction_is_run_at_about_25_kmh_and_the_followers_ma_shrinks(self, runs):
         sim, records = runs["seed002_speed_restriction"]
+        speeds = []
         for k, train in enumerate(sim.trains):
             inside = [r[k]["speed_kmh"] for r in records if r[k]["front_m"] - 200 >= 4000 and r[k]["front_m"] <= 5000]
             assert inside and min(inside) > 23 and max(inside) < 26, train.spec.name  # the whole train inside
             assert (train.stats.emergency_brakes, train.stats.service_brakes) == (0, 0)
+            speeds += inside
         ma = [r[1]["eoa_m"] - r[1]["front_m"] for r in records]
         before = min(ma[300:900])  # at line speed, before the ATS sets the restriction
         assert min(ma[1200:3000]) < before / 3  # the leader slowed down: the follower's MA shrank
         assert sim.trains[1].stats.min_gap_m > 0
+        _documented(
+            "seed002_speed_restriction",
+            f"both trains run it at {min(speeds):.0f}-{max(speeds):.0f} km/h",
+            f"shrinks from about {round(before, -1):,.0f} m to about {round(min(ma[1200:3000]), -1):,.0f} m",
+        )
 
     def test_protection_zone_leader_before_4600_follower_behind_it(self, runs):
         sim, _ = runs["seed002_protection_zone"]
         leader, follower = sim.trains
         assert 4550 < leader.front_m < 4600 and leader.speed_mps == 0
         # the seed: about 4,400 m; here the follower's MA ends where the 100 m resource holding the leader's
-        # rear (4,383.9 m) begins, 4,300 m
+        # rear begins, 4,300 m
         assert 4250 < follower.front_m < 4300 and follower.speed_mps == 0
         assert all(t.stats.emergency_brakes == 0 for t in sim.trains)
+        _documented(
+            "seed002_protection_zone",
+            f"the leader stops at {leader.front_m:,.0f} m, the follower at {follower.front_m:,.0f} m",
+            f"MA ends at {follower.last['eoa_m']:,.0f} m",
+            f"the leader's rear (at {leader.front_m - 200:,.0f} m)",
+        )
 
 
 @pytest.mark.slow
