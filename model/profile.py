@@ -148,11 +148,13 @@ def lowest_under_train(o: Ops, profiles: Sequence[Profile], train_length_m, fron
     until ``e + train_length_m`` (a higher value only once the rear has cleared
     the lower segment), so every rise is delayed by the train length, and a
     segment shorter than the train between two lower ones disappears (seed 002
-    Fig. 4(d)). ``front_m`` must lie on the profiles (a segment binds it).
+    Fig. 4(d)). Behind the profiles' start the first segment binds (as :func:`step_lookup` reads it), past their
+    end none does (the highest value).
     """
     lowest = o.max(*(v for p in profiles for v in p.values))
     for p in profiles:
-        for start, end, v in zip(p.starts_m, segment_ends(p), p.values, strict=True):
-            binds = o.and_(start <= front_m, front_m < end + train_length_m)
+        for j, (start, end, v) in enumerate(zip(p.starts_m, segment_ends(p), p.values, strict=True)):
+            ahead = front_m < end + train_length_m
+            binds = ahead if j == 0 else o.and_(start <= front_m, ahead)
             lowest = o.ite(binds, o.min(lowest, v), lowest)
     return lowest

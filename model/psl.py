@@ -80,15 +80,19 @@ def interval(o: Ops, base: Profile, from_m, to_m, limit) -> Profile:
 def extend_by_train_length(o: Ops, profile: Profile, train_length_m) -> Profile:
     """``∪ TL``: every segment ``[s, e)`` binds the front on ``[s, e + L)`` (seed 001 §3.3), materialized.
 
-    Equal, point by point, to :func:`~atcs.model.profile.lowest_under_train` of the profile alone.
+    Equal, point by point, to :func:`~atcs.model.profile.lowest_under_train` of the profile alone. The result
+    starts with zero-length segments; the first one's value, which a braking walk extends behind the line's
+    start (:func:`~atcs.model.curves.braking_walk`), is the profile's first value, the one in force there (the
+    merge alone would leave the line's highest value in it: on the unsafe side for a gradient).
     """
-    return merge_min(
+    extended = merge_min(
         o,
         *(
             interval(o, profile, start, end + train_length_m, v)
             for start, end, v in zip(profile.starts_m, segment_ends(profile), profile.values, strict=True)
         ),
     )
+    return Profile(extended.starts_m, (profile.values[0], *extended.values[1:]), extended.end_m)
 
 
 def filter_convex_bumps(o: Ops, profile: Profile, train_length_m) -> Profile:

@@ -71,6 +71,12 @@ FRONT_ON_LINE = Assumption(
     lambda o, p, s, i: o.and_(o.const(0) <= i.front_m, i.front_m < p.line_end_m),
 )
 
+FRONT_BEFORE_LINE_END = Assumption(
+    "front_before_line_end",
+    "front < line end (behind the line's start too, where a braking curve walking back from a target reaches)",
+    lambda o, p, s, i: i.front_m < p.line_end_m,
+)
+
 PSL_DATA = Assumption(
     "psl_data_well_formed",
     "PISL and PTSL start at 0, their breakpoints increase strictly up to the line end, their limits are "
@@ -160,11 +166,12 @@ PROPERTIES = (
         seed="002 §3.2 (equation 1, Fig. 5(a) to 5(d))",
         text=(
             "The materialized PSL (PISL with its short convex bumps filtered, and PTSL, each extended by the "
-            "train length, merged) equals at every position the lowest PISL or PTSL limit under the train."
+            "train length, merged) equals at every position, behind the line's start too, the lowest PISL or "
+            "PTSL limit under the train."
         ),
         node=PSL,
         holds=_matches_definition,
-        assumptions=(PSL_DATA, FRONT_ON_LINE),
+        assumptions=(PSL_DATA, FRONT_BEFORE_LINE_END),
     ),
     Property(
         name="mrsp.restricted_matches_definition",

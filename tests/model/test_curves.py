@@ -19,6 +19,7 @@ from atcs.model.curves import (
 )
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import Profile, gradient_profile
+from atcs.model.psl import extend_by_train_length
 from atcs.model.train_data import (
     TrainDataError,
     seed000_train,
@@ -98,6 +99,21 @@ def test_ebd_speed_and_location_are_inverse(speed, cut, grads):
         assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, gradient, target, location) == speed * speed
 
 
+def test_behind_the_line_the_ebd_uses_the_gradient_in_force_at_its_start():
+    """The compensated profile starts with zero-length segments; the first one's value is what the walk extends
+    behind the start: the level of the line's start, not its highest gradient (+20 here, as the merge alone
+    gives); so the EBD at 80 km/h, reaching behind the start, is the level line's."""
+    line = gradient_profile("gradient", [0, 1000], [0, 20], 3000)
+    compensated = extend_by_train_length(EXACT, line, TRAIN.train_length_m)
+    assert compensated.starts_m[:2] == (0, 0) and compensated.values[0] == 0
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
+    target, v = Target(Fraction(300), Fraction(0), Fraction(0)), Fraction(80) / Fraction(36, 10)
+    expected = ebd_location_m(EXACT, TRAIN, NATIONAL, level, target, v)
+    assert expected < 0  # the EBD at 80 km/h starts behind the line
+    assert ebd_location_m(EXACT, TRAIN, NATIONAL, compensated, target, v) == expected
+    assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, compensated, target, expected) == v * v
+
+
 def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
     level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
     v = Fraction(80) / Fraction(36, 10)
@@ -122,7 +138,7 @@ MUTANTS = {
         (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
     "ebd_is_braking_curve": [
-        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+18)
+        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+23)
         (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
         # the rotating masses swapped (cmp_flip at gradient_acceleration_mps2:+3)
         (curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)"),

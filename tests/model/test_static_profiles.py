@@ -253,3 +253,22 @@ def test_mutant_falsified_and_counterexample_replays(name):
         assert reproduce(prop, result.trace).first_violation == result.k
     # the same inputs do not violate the property on the real model
     assert replay(prop, result.trace).first_violation is None
+
+
+@pytest.mark.parametrize(
+    ("function", "old", "new"),
+    [
+        # the merge's own first value behind the start: the line's highest limit, or gradient (the unsafe side)
+        (psl.extend_by_train_length, "(profile.values[0], *extended.values[1:])", "extended.values"),
+        # the definition binding nothing behind the start
+        (profile.lowest_under_train, "ahead if j == 0 else ", ""),
+    ],
+    ids=["extension", "definition"],
+)
+def test_behind_the_start_is_inside_the_psl_definition_proof(function, old, new):
+    prop = PROPERTIES["mrsp.psl_matches_definition"]
+    with patched(function, old, new):
+        result = prove(prop, timeout_s=120)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    assert replay(prop, result.trace).first_violation is None
