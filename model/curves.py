@@ -31,7 +31,7 @@ from atcs.model.deceleration import gradient_deceleration_mps2
 from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.ops.exact import EXACT
-from atcs.model.profile import Profile
+from atcs.model.profile import Profile, segment_ends
 from atcs.model.train_data import NationalData, TrainData, TrainDataError
 
 FAR_M = 10_000_000
@@ -128,6 +128,30 @@ def braking_walk(
     return position, speed2
 
 
+def braking_walk_ahead(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, from_m, from_speed2, stop_speed2):
+    """Walk forward from ``(from_m, from_speed2)`` along the EBD, braking until the squared speed falls to
+    ``stop_speed2``: returns ``(position, squared speed)``.
+
+    Cells are visited from ``from_m`` ahead, speed steps downward in each gradient segment (the speed only falls
+    going ahead); the last gradient segment extends past the profile's end. Needs ``A_safe > 0`` in every cell.
+    """
+    k = adhesion_factor(o, t, n)
+    speeds, decels = t.emergency_speeds_mps, t.emergency_decelerations_mps2
+    position, speed2 = from_m, from_speed2
+    ends = segment_ends(gradient_c)
+    for j, gradient in enumerate(gradient_c.values):
+        high = o.const(FAR_M) if j + 1 == len(ends) else ends[j]
+        a_gradient = gradient_acceleration_mps2(o, t, gradient)
+        for step in reversed(range(len(decels))):
+            a_safe = k * decels[step] + a_gradient
+            floor2 = o.max(speeds[step] * speeds[step], stop_speed2)
+            needed_m = (speed2 - floor2) / (o.const(2) * o.max(a_safe, o.const(MIN_SPAN)))
+            moved_m = o.max(o.const(0), o.min(needed_m, high - position))
+            position = position + moved_m
+            speed2 = speed2 - o.const(2) * a_safe * moved_m
+    return position, speed2
+
+
 def ebd_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, speed_mps):
     """Where the EBD reaches ``speed_mps`` (FAR_M if it never exceeds it)."""
     foot2 = target.ebd_foot_mps * target.ebd_foot_mps
@@ -140,6 +164,16 @@ def ebd_speed2_at(o: Ops, t, n, gradient_c: Profile, target: Target, x_m):
     foot2 = target.ebd_foot_mps * target.ebd_foot_mps
     _, speed2 = braking_walk(o, t, n, gradient_c, target.location_m, foot2, x_m, o.const(HUGE_SPEED2))
     return speed2
+
+
+def ebd_reference_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, speed_mps):
+    """Where the EBD reaches ``speed_mps`` at any speed (the ERA braking-curves tool's EBD, Subset-026 §3.13.8.3.1):
+    behind the target above the foot speed (:func:`ebd_location_m`); below it, beyond the target, the curve
+    continuing from the foot speed at the target down to standstill. Supervision never needs the part beyond the
+    target (a target is supervised until the train reaches it); the reference values do."""
+    foot2 = target.ebd_foot_mps * target.ebd_foot_mps
+    beyond_m, _ = braking_walk_ahead(o, t, n, gradient_c, target.location_m, foot2, speed_mps * speed_mps)
+    return o.ite(speed_mps <= target.ebd_foot_mps, beyond_m, ebd_location_m(o, t, n, gradient_c, target, speed_mps))
 
 
 def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2):
@@ -165,12 +199,29 @@ def curve_locations(
 ) -> CurveLocations:
     """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
-    sbi = ebi - speed_mps * t.t_bs_s
+    ebd = ebd_location_m(o, t, n, gradient_c, target, speed_mps)
+    return curves_from_ebi(o, t, n, ebd, ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec, speed_mps)
+
+
+def reference_curve_locations(
+    o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
+) -> CurveLocations:
+    """:func:`curve_locations` with the EBD at every speed (:func:`ebd_reference_location_m`), as the ERA
+    braking-curves tool defines the curves of a target down to standstill."""
+    v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
+    ebd = ebd_reference_location_m(o, t, n, gradient_c, target, speed_mps)
+    ebi = ebd_reference_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
+    return curves_from_ebi(o, t, n, ebd, ebi, speed_mps)
+
+
+def curves_from_ebi(o: Ops, t: TrainData, n: NationalData, ebd_m, ebi_m, speed_mps) -> CurveLocations:
+    """The EBD and EBI locations at ``speed_mps``, with the SBI, warning, permitted and indication locations that
+    follow from the EBI (Subset-026 §3.13.9.3)."""
+    sbi = ebi_m - speed_mps * t.t_bs_s
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
-        ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),
-        ebi_m=ebi,
+        ebd_m=ebd_m,
+        ebi_m=ebi_m,
         sbi_m=sbi,
         warning_m=sbi - speed_mps * n.t_warning_s,
         permitted_m=permitted,

@@ -15,12 +15,24 @@ import sys
 from rich.console import Console
 
 from atcs.model.errors import AtcsInputError
-from atcs.proofs.cli import bench, certify, curves, headway, mutate, platforms, prove, replay, sim, vectors
+from atcs.proofs.cli import (
+    bench,
+    certify,
+    conformance,
+    curves,
+    headway,
+    mutate,
+    platforms,
+    prove,
+    replay,
+    sim,
+    vectors,
+)
 from atcs.proofs.cli._common import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_USAGE, Parser, UsageError
 
 __all__ = ["build_parser", "main", "version_lines"]
 
-COMMANDS = (prove, certify, replay, curves, platforms, sim, headway, mutate, bench, vectors)
+COMMANDS = (prove, certify, replay, curves, conformance, platforms, sim, headway, mutate, bench, vectors)
 TRACEBACK_VARIABLE = "ATCS_TRACEBACK"
 """Set to 1, an internal error or an interruption is re-raised with its traceback (for developers)."""
 
