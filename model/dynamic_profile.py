@@ -91,14 +91,17 @@ def ceilings(o: Ops, n: NationalData, mrsp_mps) -> Ceilings:
 
 def supervised_targets(o: Ops, n: NationalData, horizon: Horizon, max_safe_front_m) -> tuple[Target, ...]:
     """The MRSP's speed decreases ahead of ``max_safe_front_m`` and short of the EoA, then the EoA
-    (concrete profiles: the number of targets depends on the data)."""
+    (concrete profiles: the number of targets depends on the data). The EoA's EBD ends at standstill there
+    (the SvL, Subset-026 §3.13.8.3.2); an EoA with a target speed above 0 (a limit of authority) is supervised
+    as a speed decrease, its EBD passing ``V_target + dV_ebi(V_target)`` at it (§3.13.8.3.1)."""
     mrsp = horizon.mrsp
     targets = [
         Target(start, v, ebd_foot_mps(o, n, v))
         for start, before, v in zip(mrsp.starts_m[1:], mrsp.values, mrsp.values[1:], strict=False)
         if v < before and max_safe_front_m < start < horizon.eoa_m
     ]
-    targets.append(Target(horizon.eoa_m, horizon.eoa_speed_mps, horizon.eoa_speed_mps))
+    eoa_speed = horizon.eoa_speed_mps
+    targets.append(Target(horizon.eoa_m, eoa_speed, ebd_foot_mps(o, n, eoa_speed) if eoa_speed > 0 else eoa_speed))
     return tuple(targets)
 
 
@@ -161,7 +164,8 @@ def curve_speeds_at(
 ) -> CurveSpeeds:
     """The speed of each curve at ``x_m``: the highest speed whose curve location is at or beyond
     ``x_m`` (bisection; every curve's location falls as the speed rises), capped by its ceiling
-    (the EBD and EBI by MRSP + dV_ebi, permitted and indication by the MRSP itself)."""
+    (the EBD and EBI by MRSP + dV_ebi, permitted and indication by the MRSP itself). A target constrains only
+    speeds above its own, so every curve of a target ends at the target's speed (concrete backends only)."""
     if not tolerance_mps > 0:
         raise ValueError(f"tolerance_mps must be positive, got {tolerance_mps!r}")
     targets = supervised_targets(o, n, horizon, x_m)
@@ -171,8 +175,10 @@ def curve_speeds_at(
         top = curve_ceiling(ceiling, name)
 
         def location(v, name=name):
-            per_target = [curve_locations(o, t, n, horizon.gradient, g, v, a_est_mps2) for g in targets]
-            return min(getattr(c, f"{name}_m") for c in per_target)
+            per_target = [
+                curve_locations(o, t, n, horizon.gradient, g, v, a_est_mps2) for g in targets if v > g.speed_mps
+            ]
+            return min((getattr(c, f"{name}_m") for c in per_target), default=o.const(FAR_M))
 
         if location(top) >= x_m:
             speeds[name] = top

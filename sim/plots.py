@@ -76,7 +76,8 @@ def sampled_curves(
         per_speed = [curve_locations(o, t, n, horizon.gradient, target, float(v), a_est_mps2) for v in grid]
         for name in CURVE_NAMES:
             where = np.array([getattr(c, f"{name}_m") for c in per_speed])
-            constrains = where < FAR_M / 2  # speeds at or under the target's never reach its curve
+            # a curve constrains speeds above the target's only: every curve ends at the target speed
+            constrains = (where < FAR_M / 2) & (grid > v_target)
             if not constrains.any():
                 continue
             # locations fall as the speed rises: interpolate the speed over increasing locations

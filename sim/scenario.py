@@ -11,13 +11,12 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
-from atcs.model.data_files import read_toml
+from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
 from atcs.model.profile import parse_number
@@ -185,57 +184,8 @@ class Scenario:
         return self.double_track is not None
 
 
-class _Reader:
-    """Typed access to one TOML table, every error naming the file and the dotted field."""
-
-    def __init__(self, source: str, table: Mapping, where: str, allowed: tuple[str, ...]):
-        self.source, self.table, self.where = source, table, where
-        if not isinstance(table, Mapping):
-            raise ScenarioError(f"{source}: {where or 'the file'} must be a table, got {table!r}")
-        unknown = sorted(set(table) - set(allowed))
-        if unknown:
-            raise ScenarioError(f"{source}: {self.name(unknown[0])}: unknown field (fields here: {', '.join(allowed)})")
-
-    def name(self, key: str) -> str:
-        return f"{self.where}.{key}" if self.where else key
-
-    def fail(self, key: str, problem: str):
-        raise ScenarioError(f"{self.source}: {self.name(key)} = {self.table.get(key)!r} {problem}")
-
-    def number(self, key: str, default=None, *, minimum=None, positive=False) -> Fraction:
-        if key not in self.table:
-            if default is None:
-                raise ScenarioError(f"{self.source}: {self.name(key)} is missing")
-            return Fraction(default)
-        value = parse_number(f"{self.source}", self.name(key), self.table[key], ScenarioError)
-        if positive and value <= 0:
-            self.fail(key, "must be positive")
-        if minimum is not None and value < minimum:
-            self.fail(key, f"must be at least {minimum}")
-        return value
-
-    def optional_number(self, key: str, **limits) -> Fraction | None:
-        if key not in self.table:
-            return None
-        if isinstance(self.table[key], float) and math.isinf(self.table[key]):
-            return None
-        return self.number(key, **limits)
-
-    def text(self, key: str, default: str | None = None, choices: tuple[str, ...] | None = None) -> str:
-        value = self.table.get(key, default)
-        if value is None:
-            raise ScenarioError(f"{self.source}: {self.name(key)} is missing")
-        if not isinstance(value, str):
-            self.fail(key, "must be a string")
-        if choices is not None and value not in choices:
-            self.fail(key, f"must be one of {', '.join(choices)}")
-        return value
-
-    def rows(self, key: str) -> list:
-        value = self.table.get(key, [])
-        if not isinstance(value, list):
-            self.fail(key, "must be a list of tables")
-        return value
+class _Reader(TableReader):
+    error = ScenarioError
 
 
 def _segments(

@@ -18,9 +18,10 @@ def add_parser(subparsers) -> None:
     c = subparsers.add_parser("curves", help="draw the braking curves of a train, track and MA (PNG and SVG)")
     c.add_argument(
         "--train",
-        choices=("seed000", "seed002"),
+        metavar="PRESET|FILE",
         default="seed000",  # train_data.PRESETS
-        help="train and national data of a seed (default seed000)",
+        help="seed000 or seed002 (a seed's train and national data, default seed000), or a train data file "
+        "(TOML, Gamma or Lambda, docs/train-data.md) with Subset-026's national values",
     )
     c.add_argument(
         "--mrsp",
@@ -67,14 +68,20 @@ def _pairs(option: str, text: str) -> tuple[list[str], list[str]]:
 
 
 def run(args, out, err) -> int:
-    from atcs.model import train_data
+    from atcs.model import braking_data, train_data
     from atcs.model.curves import check_braking_capability
     from atcs.model.dynamic_profile import Horizon
+    from atcs.model.profile import KMH_PER_MPS
     from atcs.model.restrictions import as_float
     from atcs.sim.plots import planning_area, sampled_curves
 
-    train, national = (make() for make in train_data.PRESETS[args.train])
+    name, train, national = _train(args)
     q = _query(args, train)
+    if name not in train_data.PRESETS:  # the train's data for the EoA's target speed (T_be, T_bs: cm0 or cmt)
+        rail = braking_data_of(args)
+        speed_kmh = q["eoa_speed"] * KMH_PER_MPS
+        train = braking_data.curve_train_data(rail, national, speed_kmh)
+        national = braking_data.curve_national_data(rail, national, speed_kmh)
     with reraised("curves: ", train_data.TrainDataError):
         train_data.validate(train, national)
         check_braking_capability(train, national, q["gradient"])
@@ -92,12 +99,37 @@ def run(args, out, err) -> int:
         directory.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise UsageError(f"curves: --out {args.out!r}: {exc.strerror}") from None
-    title = f"{args.train}: braking curves to the EoA at {float(q['eoa_m']):g} m (A_est {float(q['a_est']):.2f} m/s²)"
+    title = f"{name}: braking curves to the EoA at {float(q['eoa_m']):g} m (A_est {float(q['a_est']):.2f} m/s²)"
     paths = planning_area(sampled, float(q["eoa_m"]), title, [directory / "curves.png", directory / "curves.svg"])
     out.print("wrote " + ", ".join(str(p) for p in paths))
     if q["speed"] is not None:
         _print_locations(out, train, national, horizon, q)
     return EXIT_OK
+
+
+def braking_data_of(args):
+    """The train of the ``--train`` file (a usage error naming the file, the field and the value if bad)."""
+    from atcs.model.train_data import TrainDataError
+    from atcs.model.train_files import load_train
+
+    with reraised("curves: --train ", TrainDataError):
+        return load_train(args.train)
+
+
+def _train(args):
+    """``(name, train data, national data)`` of ``--train``: a preset, or a train data file (its data for a
+    target at standstill; ``run`` derives it again for the EoA's speed)."""
+    from atcs.model import braking_data, train_data
+
+    if args.train in train_data.PRESETS:
+        train, national = (make() for make in train_data.PRESETS[args.train])
+        return args.train, train, national
+    if not args.train.endswith(".toml"):
+        raise UsageError(
+            f"curves: --train = {args.train!r} is neither a preset ({', '.join(train_data.PRESETS)}) nor a .toml file"
+        )
+    rail, national = braking_data_of(args), train_data.subset026_national()
+    return rail.name, braking_data.curve_train_data(rail, national, 0), national
 
 
 def _query(args, train) -> dict:

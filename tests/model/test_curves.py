@@ -52,8 +52,8 @@ class TestTrainData:
                 {},
                 "emergency_decelerations_mps2[0] = Fraction(-1, 1) is outside (0, 5] m/s^2",
             ),
-            ({"t_be_s": Fraction(25)}, {}, "t_be_s = Fraction(25, 1) is outside [0, 20] s"),
-            ({"t_traction_s": Fraction(-1)}, {}, "t_traction_s = Fraction(-1, 1) is outside [0, 20] s"),
+            ({"t_be_s": Fraction(121)}, {}, "t_be_s = Fraction(121, 1) is outside [0, 120] s"),
+            ({"t_traction_s": Fraction(-1)}, {}, "t_traction_s = Fraction(-1, 1) is outside [0, 120] s"),
             ({"kdry_rst": Fraction(0)}, {}, "kdry_rst = Fraction(0, 1) is outside (0, 1]"),
             ({"service_speeds_mps": (Fraction(1),)}, {}, "service_speeds_mps[0] = Fraction(1, 1) is not 0"),
             (

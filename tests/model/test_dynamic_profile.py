@@ -63,9 +63,23 @@ def test_decreases_beyond_the_end_of_authority_are_not_targets():
 
 
 def test_the_ma_target_speed_is_the_eoa_targets():
+    """An EoA at standstill is the SvL: its EBD ends at 0 there (Subset-026 §3.13.8.3.2); one with a target speed
+    (a limit of authority) is a speed decrease: its EBD passes V_target + dV_ebi at it (§3.13.8.3.1)."""
     radio = Horizon(MRSP, GRADIENT, Fraction(1500), _kmh(20))
     eoa = supervised_targets(EXACT, NATIONAL, radio, Fraction(0))[-1]
-    assert (eoa.speed_mps, eoa.ebd_foot_mps) == (_kmh(20), _kmh(20))
+    assert (eoa.speed_mps, eoa.ebd_foot_mps) == (_kmh(20), _kmh(20) + NATIONAL.dv_ebi_min_mps)
+    svl = supervised_targets(EXACT, NATIONAL, Horizon(MRSP, GRADIENT, Fraction(1500), Fraction(0)), Fraction(0))[-1]
+    assert (svl.speed_mps, svl.ebd_foot_mps) == (0, 0)
+
+
+def test_every_curve_of_a_limit_of_authority_ends_at_its_speed():
+    """With the EoA at 20 km/h, no curve falls under 20 km/h before it (neither the forward query nor the plot)."""
+    radio = Horizon(as_float(MRSP), as_float(GRADIENT), 1500.0, float(_kmh(20)))
+    for x_m in (1400.0, 1480.0, 1499.0):
+        speeds = curve_speeds_at(TRAIN, NATIONAL, radio, x_m, 1.0)
+        assert all(getattr(speeds, f"{name}_mps") >= float(_kmh(20)) - 1e-5 for name in CURVE_NAMES), (x_m, speeds)
+    sampled = sampled_curves(TRAIN, NATIONAL, radio, 0.0, 1.0)
+    assert all(np.all(sampled.speeds_mps[name] >= float(_kmh(20)) - 1e-9) for name in CURVE_NAMES)
 
 
 def test_ebd_foot_follows_the_speed_dependent_dv_ebi():

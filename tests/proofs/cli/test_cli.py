@@ -218,7 +218,8 @@ class TestCurves:
             (["--a-est", "-1"], "--a-est = -1 is out of range"),
             (["--speed", "0"], "--speed = 0 is out of range"),
             (["--gradient", "0:-100"], "the train cannot stop"),
-            (["--train", "seed999"], "invalid choice"),
+            (["--train", "seed999"], "is neither a preset (seed000, seed002) nor a .toml file"),
+            (["--train", "missing.toml"], "--train missing.toml: cannot read the train data"),
         ],
     )
     def test_bad_input_one_line_exit_2(self, tmp_path, argv, expected, capsys):

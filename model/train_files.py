@@ -1,0 +1,158 @@
+"""A train data file (TOML): a train as Subset-026 §3.13.2 describes it, Gamma or Lambda, with its interfaces
+(docs/train-data.md is the reference: every key, its unit, default and range).
+
+Every error names the file, the field and the value (:class:`~atcs.model.train_data.TrainDataError`).
+"""
+
+from __future__ import annotations
+
+import itertools
+from fractions import Fraction
+from pathlib import Path
+
+from atcs.model.braking_data import (
+    BRAKE_POSITIONS,
+    GammaBrakes,
+    IntegratedFactors,
+    LambdaBrakes,
+    RailTrain,
+    StepFunction,
+    conversion_model,
+)
+from atcs.model.data_files import TableReader, read_toml
+from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH
+from atcs.model.train_data import MAX_BUILD_UP_S, TrainDataError
+
+__all__ = ["FIELDS", "load_train", "shipped_trains"]
+
+MAX_LENGTH_M = 1500
+"""The longest train (m): the conversion model's limit for freight trains (Subset-026 §3.13.3.2)."""
+MAX_DECELERATION_MPS2 = 5
+"""The highest brake deceleration accepted (m/s^2): above any adhesion-limited train brake."""
+MAX_ACCELERATION_MPS2 = 5
+MAX_TIME_S = MAX_BUILD_UP_S
+
+FIELDS = {
+    "": (
+        "name",
+        "length_m",
+        "max_speed_kmh",
+        "brake_position",
+        "t_traction_cut_off_s",
+        "rotating_mass_percent",
+        "max_acceleration_mps2",
+        "v_ura_kmh",
+        "interfaces",
+        "gamma",
+        "lambda",
+    ),
+    "interfaces": ("service_brake_command", "service_brake_feedback", "traction_cut_off_command"),
+    "gamma": ("t_brake_emergency_s", "t_brake_service_s", "emergency", "service", "kdry_rst", "kwet_rst"),
+    "lambda": ("brake_percentage", "kr_int", "kt_int"),
+}
+"""The fields of each table of a train data file (docs/train-data.md documents each)."""
+
+
+class _Reader(TableReader):
+    error = TrainDataError
+
+    def bounded(self, key: str, low, high, default=None, *, low_open: bool = False) -> Fraction:
+        value = self.number(key, default)
+        if value < low or value > high or (low_open and value == low):
+            shown = f"({low}, {high}]" if low_open else f"[{low}, {high}]"
+            self.fail(key, f"is outside {shown}")
+        return value
+
+    def flag(self, key: str, default: bool) -> bool:
+        value = self.table.get(key, default)
+        if not isinstance(value, bool):
+            self.fail(key, "must be true or false")
+        return value
+
+
+def _steps(source: str, reader: _Reader, key: str, value_key: str, high) -> StepFunction:
+    """``[{from_kmh = 0, <value_key> = ...}, ...]``: a step function of speed, up to seven steps (§3.13.2.2.3.1.2)."""
+    rows = reader.rows(key)
+    if not 1 <= len(rows) <= 7:
+        reader.fail(key, "must be a list of 1 to 7 steps")
+    speeds, values = [], []
+    for k, row in enumerate(rows):
+        r = _Reader(source, row, f"{reader.name(key)}[{k}]", ("from_kmh", value_key))
+        speeds.append(r.bounded("from_kmh", 0, MAX_SPEED_KMH))
+        values.append(r.bounded(value_key, 0, high, low_open=True))
+    if speeds[0] != 0 or any(a >= b for a, b in itertools.pairwise(speeds)):
+        reader.fail(key, "must start at from_kmh = 0 with increasing from_kmh")
+    return StepFunction(tuple(speeds), tuple(values))
+
+
+def _gamma(source: str, table) -> GammaBrakes:
+    r = _Reader(source, table, "gamma", FIELDS["gamma"])
+    one = [{"from_kmh": 0, "value": 1}]
+    for key in ("kdry_rst", "kwet_rst"):
+        if key not in r.table:
+            r.table = {**r.table, key: one}
+    return GammaBrakes(
+        emergency_mps2=_steps(source, r, "emergency", "mps2", MAX_DECELERATION_MPS2),
+        kdry_rst=_steps(source, r, "kdry_rst", "value", 1),
+        kwet_rst=_steps(source, r, "kwet_rst", "value", 1),
+        t_brake_emergency_s=r.bounded("t_brake_emergency_s", 0, MAX_TIME_S, low_open=True),
+        service_mps2=_steps(source, r, "service", "mps2", MAX_DECELERATION_MPS2),
+        t_brake_service_s=r.bounded("t_brake_service_s", 0, MAX_TIME_S, low_open=True),
+    )
+
+
+def _lambda(source: str, table) -> LambdaBrakes:
+    r = _Reader(source, table, "lambda", FIELDS["lambda"])
+    neutral = IntegratedFactors.neutral()
+    return LambdaBrakes(
+        brake_percentage=r.number("brake_percentage"),
+        factors=IntegratedFactors(
+            kv_int_a=neutral.kv_int_a,
+            kv_int_b=neutral.kv_int_b,
+            a_nvp12_mps2=neutral.a_nvp12_mps2,
+            a_nvp23_mps2=neutral.a_nvp23_mps2,
+            kr_int_lengths_m=neutral.kr_int_lengths_m,
+            kr_int_values=(r.bounded("kr_int", 0, 1, 1, low_open=True),),
+            kt_int=r.bounded("kt_int", 1, 2, 1),
+        ),
+    )
+
+
+def load_train(path: str | Path) -> RailTrain:
+    """The train of the TOML file at ``path``; a Lambda train is checked against the conversion model's validity
+    limits here, so that a refusal names the file."""
+    source = str(path)
+    doc = read_toml(path, TrainDataError, "the train data")
+    top = _Reader(source, doc, "", FIELDS[""])
+    kinds = [k for k in ("gamma", "lambda") if k in doc]
+    if len(kinds) != 1:
+        raise TrainDataError(f"{source}: give exactly one of [gamma] (brake models) or [lambda] (brake percentage)")
+    interfaces = _Reader(source, doc.get("interfaces", {}), "interfaces", FIELDS["interfaces"])
+    rotating = top.optional_number("rotating_mass_percent")
+    if rotating is not None and not 0 <= rotating <= 50:
+        top.fail("rotating_mass_percent", "is outside [0, 50]")
+    train = RailTrain(
+        name=top.text("name"),
+        length_m=top.bounded("length_m", 0, MAX_LENGTH_M, low_open=True),
+        max_speed_kmh=top.bounded("max_speed_kmh", 0, MAX_SPEED_KMH, low_open=True),
+        brake_position=top.text("brake_position", choices=BRAKE_POSITIONS),
+        brakes=_gamma(source, doc["gamma"]) if kinds == ["gamma"] else _lambda(source, doc["lambda"]),
+        t_traction_cut_off_s=top.bounded("t_traction_cut_off_s", 0, MAX_TIME_S, 0),
+        service_brake_command=interfaces.flag("service_brake_command", False),
+        service_brake_feedback=interfaces.flag("service_brake_feedback", False),
+        traction_cut_off_command=interfaces.flag("traction_cut_off_command", False),
+        rotating_mass_percent=rotating,
+        max_acceleration_mps2=top.bounded("max_acceleration_mps2", 0, MAX_ACCELERATION_MPS2, 0),
+        v_ura_mps=top.bounded("v_ura_kmh", 0, 20, 0) / KMH_PER_MPS,
+    )
+    if isinstance(train.brakes, LambdaBrakes):
+        try:
+            conversion_model(train.brakes.brake_percentage, train.brake_position, train.length_m, train.max_speed_kmh)
+        except TrainDataError as exc:
+            raise TrainDataError(f"{source}: {exc}") from None
+    return train
+
+
+def shipped_trains() -> dict[str, Path]:
+    """The train data files shipped with atcs (``model/trains``), by name."""
+    return {p.stem: p for p in sorted((Path(__file__).parent / "trains").glob("*.toml"))}

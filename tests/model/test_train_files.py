@@ -1,0 +1,99 @@
+"""Train data files (docs/train-data.md): the loader accepts exactly the documented keys, the shipped trains are
+the ERA frames' trains (so every row of the frames holds with them), and every bad value is refused naming the
+file, the field and the value."""
+
+import dataclasses
+import re
+from pathlib import Path
+
+import pytest
+
+from atcs.model.braking_data import curve_train_data
+from atcs.model.train_data import TrainDataError, subset026_national
+from atcs.model.train_files import FIELDS, load_train, shipped_trains
+from atcs.proofs.cli import main
+from atcs.proofs.conformance.check import check_frame
+from atcs.proofs.conformance.frames import load_frame, shipped_frames
+
+REFERENCE = Path(__file__).parents[2] / "docs" / "train-data.md"
+
+
+def _documented() -> dict[str, set[str]]:
+    """The keys of each table the reference documents (its tables' first column)."""
+    tables, current = {}, None
+    for line in REFERENCE.read_text(encoding="utf-8").splitlines():
+        heading = re.match(r"## (?:`\[(\w+)\]`|Top level)", line)
+        if heading:
+            current = heading.group(1) or ""
+            tables[current] = set()
+        elif current is not None and line.startswith("| `"):
+            key = line.split("|")[1].strip().strip("`")
+            if key.startswith("["):  # a table row of the top level: `[interfaces]`, `[gamma]` or `[lambda]`
+                tables[current] |= set(re.findall(r"\[(\w+)\]", key))
+            else:
+                tables[current].add(key)
+    return tables
+
+
+def test_the_loader_accepts_exactly_the_documented_keys():
+    assert _documented() == {table: set(keys) for table, keys in FIELDS.items()}
+
+
+@pytest.mark.parametrize("name", ["gamma_passenger_P", "lambda_passenger_P_100"])
+def test_the_shipped_trains_are_the_frames_trains(name):
+    frame = load_frame(dict((p.stem, p) for p in shipped_frames())[name])
+    train = load_train(shipped_trains()[name])
+    national = subset026_national()
+    assert curve_train_data(train, national, 0) == curve_train_data(frame.train, national, 0)
+    results = check_frame(dataclasses.replace(frame, train=train))
+    assert all(r.agrees for r in results)
+
+
+LAMBDA = shipped_trains()["lambda_passenger_P_100"].read_text(encoding="utf-8")
+GAMMA = shipped_trains()["gamma_passenger_P"].read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize(
+    ("text", "old", "new", "message"),
+    [
+        (LAMBDA, "brake_percentage = 100", "brake_percentage = 260", "brake_percentage = 260 is outside [30, 250]"),
+        (LAMBDA, "length_m = 700", "length_m = 950", "length_m = 950 is above 900 for passenger_P"),
+        (LAMBDA, "length_m = 700", "length_m = 0", "length_m = 0 is outside (0, 1500]"),
+        (LAMBDA, "length_m = 700", 'length_m = "1e5000"', "length_m"),
+        (LAMBDA, 'brake_position = "passenger_P"', 'brake_position = "P"', "brake_position = 'P' must be one of"),
+        (LAMBDA, "[lambda]", "[lamda]", "lamda: unknown field"),
+        (LAMBDA, "service_brake_command = false", "service_brake_command = 1", "must be true or false"),
+        (GAMMA, "t_brake_service_s = 2.5", "t_brake_service_s = 130", "gamma.t_brake_service_s = 130 is outside"),
+        (GAMMA, "emergency = [{ from_kmh = 0, mps2 = 1.0 }]", "emergency = [{ from_kmh = 5, mps2 = 1.0 }]", "start"),
+        (GAMMA, "emergency = [{ from_kmh = 0, mps2 = 1.0 }]", "emergency = [{ from_kmh = 0, mps2 = 0 }]", "mps2 = 0"),
+        (GAMMA, "kwet_rst = [{ from_kmh = 0, value = 1.0 }]", "kwet_rst = [{ from_kmh = 0, value = 1.5 }]", "1.5"),
+        (GAMMA, "[gamma]", "[lambda]\nbrake_percentage = 100\n[gamma]", "exactly one of [gamma]"),
+    ],
+)
+def test_bad_train_data_is_named(tmp_path, text, old, new, message):
+    assert old in text
+    path = tmp_path / "train.toml"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    with pytest.raises(TrainDataError) as caught:
+        load_train(path)
+    assert str(caught.value).startswith(str(path)) and message in str(caught.value), caught.value
+
+
+def test_freight_build_up_times_are_accepted(tmp_path):
+    """A freight train in G has a T_bs of 22.4 s and more (the conversion model gives up to 64.7 s)."""
+    path = tmp_path / "freight.toml"
+    path.write_text(GAMMA.replace("t_brake_service_s = 2.5", "t_brake_service_s = 22.4"), encoding="utf-8")
+    assert load_train(path).brakes.t_brake_service_s == pytest.approx(22.4)
+
+
+def test_curves_draws_a_lambda_train_from_its_file(tmp_path, capsys):
+    train = shipped_trains()["lambda_passenger_P_100"]
+    argv = ["curves", "--train", str(train), "--eoa", "3000", "--mrsp", "0:160", "--gradient", "0:0"]
+    assert main([*argv, "--eoa-speed", "30", "--speed", "120", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert (tmp_path / "curves.png").exists() and "3000 @ 30" in out
+
+
+def test_curves_refuses_a_train_that_is_neither_preset_nor_file(capsys):
+    assert main(["curves", "--train", "seed001"]) == 2
+    assert "--train = 'seed001' is neither a preset (seed000, seed002) nor a .toml file" in capsys.readouterr().err
