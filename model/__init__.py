@@ -6,7 +6,14 @@ under every backend.
 
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
 from atcs.model.closed_loop import CLOSED_LOOP
-from atcs.model.curves import ADHESION, CEILING_OFFSET, CURVES, GRADIENT_ACCELERATION, STEPPED_CURVES
+from atcs.model.curves import (
+    ADHESION,
+    CEILING_OFFSET,
+    CONVERTED_CURVES,
+    CURVES,
+    GRADIENT_ACCELERATION,
+    STEPPED_CURVES,
+)
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
@@ -45,6 +52,7 @@ NODES: dict[str, Node] = {
         ADHESION,
         GRADIENT_ACCELERATION,
         STEPPED_CURVES,
+        CONVERTED_CURVES,
         MOST_RESTRICTIVE,
         EXCEEDANCES,
     )

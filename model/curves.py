@@ -304,6 +304,22 @@ STEPPED_CURVES = dataclasses.replace(
 """:data:`CURVES` (the same step) for a train whose emergency brake has three speed steps: the walk's cells over
 speed, which the presets' one-step brakes never enter, are proved about too."""
 
+CONVERTED_CURVES = dataclasses.replace(
+    CURVES,
+    name="curves_converted",
+    sizes={
+        **CURVES.sizes,
+        **{
+            f"{brake}_{table}": 4
+            for brake in ("emergency", "service")
+            for table in ("speeds_mps", "decelerations_mps2")
+        },
+    },
+)
+""":data:`CURVES` (the same step) for a Lambda train whose emergency and service brakes the conversion model of
+Subset-026 §3.13.3 gives in four speed steps: AD_0 up to V_lim, then the steps of V_lim's range and above it (a
+brake percentage from about 98 to 165 %, V_lim between 120 and 150 km/h)."""
+
 
 # --- dV as a sub-function node: the speed-dependent ceiling offset on its own ---------------------------------
 

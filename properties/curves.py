@@ -16,8 +16,10 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+from atcs.model.braking_data import curve_national_data, curve_train_data
 from atcs.model.curves import (
     A_EST2_CAP_MPS2,
+    CONVERTED_CURVES,
     CURVES,
     FAR_M,
     STEPPED_CURVES,
@@ -34,6 +36,7 @@ from atcs.model.train_data import (
     seed002_train,
     subset026_national,
 )
+from atcs.model.train_files import load_train, shipped_trains
 from atcs.properties.property import Assumption, Property
 
 MAX_GRADIENT_PERMILLE = 40
@@ -63,8 +66,24 @@ PRESETS = {
         **STEPPED_EMERGENCY_BRAKE,
     },
 }
-"""The fixed parameters of each preset's curve proofs: the seeds' trains, and the seed 000 train with a
-three-step emergency brake."""
+"""The fixed parameters of each preset's curve proofs: the seeds' trains, the seed 000 train with a
+three-step emergency brake, and the Gamma and Lambda trains of the ERA tool's reference frames from their train
+data files (``model/trains``), derived as Subset-026 states it (:func:`~atcs.model.braking_data.curve_train_data`:
+the correction factors in the deceleration steps, the Lambda train's through the conversion model; T_bs2 and
+T_indication by the interface rules), for a target at standstill."""
+
+
+def _subset026_preset(name: str) -> dict:
+    train, national = load_train(shipped_trains()[name]), subset026_national()
+    return {
+        **as_dict(curve_train_data(train, national, 0)),
+        **as_dict(curve_national_data(train, national, 0)),
+        **_DESIGN_TRACK,
+    }
+
+
+PRESETS["gamma"] = _subset026_preset("gamma_passenger_P")
+PRESETS["lambda"] = _subset026_preset("lambda_passenger_P_100")
 
 
 def _track_and_target(o, p, s, i):
@@ -199,7 +218,7 @@ def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
 
 def _properties(preset: str):
     fixed = PRESETS[preset]
-    node = STEPPED_CURVES if len(fixed["emergency_speeds_mps"]) > 1 else CURVES
+    node = {1: CURVES, 3: STEPPED_CURVES, 4: CONVERTED_CURVES}[len(fixed["emergency_speeds_mps"])]
     return (
         Property(
             name=f"curves.order_{preset}",

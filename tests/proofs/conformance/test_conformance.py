@@ -180,3 +180,86 @@ def test_the_interfaces_set_t_bs2_t_traction_and_t_indication():
 def test_a_step_function_is_checked(speeds, values, message):
     with pytest.raises(TrainDataError, match=message):
         braking_data.StepFunction(tuple(map(Fraction, speeds)), tuple(map(Fraction, values)))
+
+
+def _disagreements() -> int:
+    """Rows and input checks of both shipped frames outside their tolerance."""
+    count = 0
+    for path in FRAMES.values():
+        frame = load_frame(path)
+        count += sum(not r.agrees for r in check_frame(frame))
+        count += sum(i.agrees is False for i in check_inputs(frame))
+    return count
+
+
+FRAME_MUTANTS = {
+    "AD_0 without its constant": (braking_data._deceleration_steps, '* lam + Fraction("0.076")', "* lam"),
+    "the polynomial one degree up": (braking_data._polynomial, "lam**k", "lam ** (k + 1)"),
+    "V_lim's exponent": (braking_data._deceleration_steps, "math.pow(float(lam), 0.428)", "math.pow(float(lam), 0.43)"),
+    "T_brake_basic without its square": (braking_data._build_up_s, "(el / 100) ** 2", "(el / 100)"),
+    "kto without the 1": (braking_data.conversion_model, "kto = 1 + _CT[brake_position]", "kto = _CT[brake_position]"),
+    "cmt for a target at standstill": (braking_data._brakes, "target_speed_kmh == 0", "target_speed_kmh != 0"),
+    "T_bs2 without the interface rule": (
+        braking_data.curve_train_data,
+        "t_bs if train.service_brake_command else Fraction(0)",
+        "t_bs",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", sorted(FRAME_MUTANTS))
+def test_the_frames_catch_a_wrong_formula_of_the_train_data(name):
+    function, old, new = FRAME_MUTANTS[name]
+    with patched(function, old, new):
+        assert _disagreements() > 0
+    assert _disagreements() == 0
+
+
+def test_the_formulas_no_frame_exercises():
+    """What the two frames cannot tell apart (their factors are 1, their lengths over 400 m, their brake
+    percentage under 135 %), stated from Subset-026 §3.13.3 and §3.13.6."""
+    low = conversion_model(200, "passenger_P", 300, 160)
+    assert low.service_mps2 == conversion_model(135, "passenger_P", 300, 160).emergency_mps2  # min(lambda, 135)
+    assert low.t_brake_emergency_cm0_s == Fraction("2.30") + Fraction("0.17") * 16  # L taken as at least 400 m
+    assert low.t_brake_service_cm0_s == 3 + Fraction("1.5") * 3 + Fraction("0.1") * 9  # the real length for SB
+    g = conversion_model(100, "freight_G", 1200, 100)
+    assert g.kto == Fraction("1.16") and g.t_brake_emergency_cmt_s == Fraction("1.16") * (
+        Fraction("-0.4") + Fraction("1.6") * 12 + Fraction("0.03") * 144
+    )
+    train, national = _train(
+        brakes=braking_data.GammaBrakes(
+            emergency_mps2=braking_data.StepFunction((Fraction(0), Fraction(100)), (Fraction(1), Fraction(1, 2))),
+            kdry_rst=braking_data.StepFunction.constant(Fraction(9, 10)),
+            kwet_rst=braking_data.StepFunction((Fraction(0), Fraction(50)), (Fraction(8, 10), Fraction(6, 10))),
+            t_brake_emergency_s=Fraction(3),
+            service_mps2=braking_data.StepFunction.constant(1),
+            t_brake_service_s=Fraction(4),
+        )
+    )
+    national = dataclasses.replace(national, m_nvavadh=Fraction(1, 2))
+    t = braking_data.curve_train_data(train, national, 0)
+    kmh = [s * 36 / 10 for s in t.emergency_speeds_mps]
+    k_low, k_high = (
+        Fraction(9, 10) * (Fraction(8, 10) + Fraction(1, 2) * Fraction(2, 10)),
+        Fraction(9, 10) * (Fraction(6, 10) + Fraction(1, 2) * Fraction(4, 10)),
+    )
+    assert (kmh, list(t.emergency_decelerations_mps2)) == ([0, 50, 100], [k_low, k_high, k_high / 2])
+    factors = braking_data.IntegratedFactors(
+        kv_int_a=braking_data.StepFunction.constant(Fraction(9, 10)),
+        kv_int_b=braking_data.StepFunction.constant(Fraction(7, 10)),
+        a_nvp12_mps2=Fraction(1, 2),
+        a_nvp23_mps2=Fraction(1),
+        kr_int_lengths_m=(Fraction(0), Fraction(500)),
+        kr_int_values=(Fraction(1), Fraction(9, 10)),
+        kt_int=Fraction(11, 10),
+    )
+    lam, _ = _train(brakes=braking_data.LambdaBrakes(Fraction(100), factors), length_m=Fraction(700))
+    t = braking_data.curve_train_data(lam, national, 0)
+    converted = conversion_model(100, "passenger_P", 700, 180)
+    a_ebmax = max(converted.emergency_mps2.values)  # 0.826: between A_NVP12 and A_NVP23
+    kv = Fraction(9, 10) + (a_ebmax - Fraction(1, 2)) / Fraction(1, 2) * (Fraction(7, 10) - Fraction(9, 10))
+    assert t.emergency_decelerations_mps2[0] == converted.emergency_mps2.values[0] * kv * Fraction(9, 10)
+    assert t.t_be_s == Fraction(11, 10) * converted.t_brake_emergency_cm0_s
+    assert (
+        braking_data.curve_train_data(lam, national, 30).t_be_s == Fraction(11, 10) * converted.t_brake_emergency_cmt_s
+    )
