@@ -199,33 +199,35 @@ def curve_locations(
 ) -> CurveLocations:
     """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebd = ebd_location_m(o, t, n, gradient_c, target, speed_mps)
-    return curves_from_ebi(o, t, n, ebd, ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec, speed_mps)
+    ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
+    sbi = ebi - speed_mps * t.t_bs_s
+    permitted = sbi - speed_mps * n.t_driver_s
+    return CurveLocations(
+        ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),
+        ebi_m=ebi,
+        sbi_m=sbi,
+        warning_m=sbi - speed_mps * n.t_warning_s,
+        permitted_m=permitted,
+        indication_m=permitted - speed_mps * n.t_indication_s,
+    )
 
 
 def reference_curve_locations(
     o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
 ) -> CurveLocations:
     """:func:`curve_locations` with the EBD at every speed (:func:`ebd_reference_location_m`), as the ERA
-    braking-curves tool defines the curves of a target down to standstill."""
+    braking-curves tool defines the curves of a target down to standstill. At a given speed the SBI, warning,
+    permitted and indication lie fixed distances before the EBI (:func:`curve_locations`), so they move with it
+    (exact backends: the supervision's EBI may be :data:`FAR_M`-based)."""
+    curve = curve_locations(o, t, n, gradient_c, target, speed_mps, a_est_mps2)
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebd = ebd_reference_location_m(o, t, n, gradient_c, target, speed_mps)
-    ebi = ebd_reference_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
-    return curves_from_ebi(o, t, n, ebd, ebi, speed_mps)
-
-
-def curves_from_ebi(o: Ops, t: TrainData, n: NationalData, ebd_m, ebi_m, speed_mps) -> CurveLocations:
-    """The EBD and EBI locations at ``speed_mps``, with the SBI, warning, permitted and indication locations that
-    follow from the EBI (Subset-026 §3.13.9.3)."""
-    sbi = ebi_m - speed_mps * t.t_bs_s
-    permitted = sbi - speed_mps * n.t_driver_s
+    shift = ebd_reference_location_m(o, t, n, gradient_c, target, v_bec) - d_bec - curve.ebi_m
     return CurveLocations(
-        ebd_m=ebd_m,
-        ebi_m=ebi_m,
-        sbi_m=sbi,
-        warning_m=sbi - speed_mps * n.t_warning_s,
-        permitted_m=permitted,
-        indication_m=permitted - speed_mps * n.t_indication_s,
+        ebd_m=ebd_reference_location_m(o, t, n, gradient_c, target, speed_mps),
+        **{
+            name: getattr(curve, name) + shift
+            for name in ("ebi_m", "sbi_m", "warning_m", "permitted_m", "indication_m")
+        },
     )
 
 
