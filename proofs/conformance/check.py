@@ -56,10 +56,15 @@ def _target(frame: Frame, row: Row) -> Target:
     return Target(row.target_m, speed, foot)
 
 
-def _computed(frame: Frame, row: Row) -> Fraction:
-    t = curve_train_data(frame.train, frame.national, row.target_speed_kmh)
-    n = curve_national_data(frame.train, frame.national, row.target_speed_kmh)
-    gradient_c = extend_by_train_length(EXACT, frame.gradient, t.train_length_m)
+def _data(frame: Frame, target_speed_kmh) -> tuple:
+    """The train and national data and the compensated gradient for a target of ``target_speed_kmh``."""
+    t = curve_train_data(frame.train, frame.national, target_speed_kmh)
+    n = curve_national_data(frame.train, frame.national, target_speed_kmh)
+    return t, n, extend_by_train_length(EXACT, frame.gradient, t.train_length_m)
+
+
+def _computed(frame: Frame, row: Row, data: tuple) -> Fraction:
+    t, n, gradient_c = data
     speed = row.speed_kmh / KMH_PER_MPS
     if row.curve == "A_safe":
         a_brake = braking_deceleration_mps2(EXACT, t.emergency_speeds_mps, t.emergency_decelerations_mps2, speed)
@@ -126,7 +131,8 @@ def check_inputs(frame: Frame) -> list[InputResult]:
 
 def check_frame(frame: Frame) -> list[RowResult]:
     """Every row of ``frame``, computed."""
-    return [RowResult(row, _computed(frame, row)) for row in frame.rows]
+    data = {speed: _data(frame, speed) for speed in {row.target_speed_kmh for row in frame.rows}}
+    return [RowResult(row, _computed(frame, row, data[row.target_speed_kmh])) for row in frame.rows]
 
 
 def worst_by_curve(results: list[RowResult]) -> dict[str, tuple[int, int, Fraction]]:

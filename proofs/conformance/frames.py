@@ -12,10 +12,21 @@ from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
 
-from atcs.model.braking_data import GammaBrakes, IntegratedFactors, LambdaBrakes, RailTrain, StepFunction
+from atcs.model.braking_data import (
+    GammaBrakes,
+    IntegratedFactors,
+    LambdaBrakes,
+    RailTrain,
+    StepFunction,
+    curve_national_data,
+    curve_train_data,
+)
+from atcs.model.curves import check_braking_capability
 from atcs.model.errors import AtcsInputError
+from atcs.model.ops.exact import EXACT
 from atcs.model.profile import KMH_PER_MPS, Profile
-from atcs.model.train_data import NationalData, TrainDataError, subset026_national
+from atcs.model.psl import extend_by_train_length
+from atcs.model.train_data import NationalData, TrainDataError, subset026_national, validate
 
 __all__ = ["CURVES", "Frame", "FrameError", "InputRow", "Row", "load_frame", "shipped_frames"]
 
@@ -265,6 +276,18 @@ def _rows(r: _Reader) -> tuple[tuple[Row, ...], tuple[str, ...]]:
     return tuple(rows), tuple(others)
 
 
+def _check_braking(path: Path, train: RailTrain, national: NationalData, gradient: Profile) -> None:
+    """The train's data as the curves take it, for a target at standstill and above it, in range
+    (:func:`~atcs.model.train_data.validate`), and able to stop on every gradient of the line."""
+    try:
+        for target_speed_kmh in (0, 1):
+            data = curve_train_data(train, national, target_speed_kmh)
+            validate(data, curve_national_data(train, national, target_speed_kmh))
+            check_braking_capability(data, national, extend_by_train_length(EXACT, gradient, data.train_length_m))
+    except TrainDataError as exc:
+        raise FrameError(f"{path}: {exc}") from None
+
+
 _SPEED_ARGUMENT = re.compile(r"\(V => ([0-9.eE+-]+)\)")
 
 
@@ -302,12 +325,14 @@ def load_frame(path: str | Path) -> Frame:
     mrsp_kmh = min(r.number("inputs.track_data.signalling_related_speed_restriction.value_kmh"), train.max_speed_kmh)
     line_end_m = r.number("inputs.track_data.signalling_related_speed_restriction.end_m")
     rows, others = _rows(r)
+    national, gradient = _national(r), _gradient(r, line_end_m)
+    _check_braking(path, train, national, gradient)
     return Frame(
         name=str(doc.get("frame_name", path.stem)),
         path=path,
         train=train,
-        national=_national(r),
-        gradient=_gradient(r, line_end_m),
+        national=national,
+        gradient=gradient,
         mrsp_kmh=mrsp_kmh,
         rows=rows,
         inputs=_inputs(r),
