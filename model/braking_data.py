@@ -197,17 +197,17 @@ def _deceleration_steps(lam: Fraction) -> StepFunction:
 
 
 _BUILD_UP = {
-    # brake position: ((longest length for the first row, (a, b, c), least length used), (above it: ...))
-    # T_brake_basic = a + b * (L / 100) + c * (L / 100)^2 (§3.13.3.4)
+    # brake position: ((a, b, c) up to 900 m, (a, b, c) above, the least length used up to 900 m)
+    # T_brake_basic = a + b * (L / 100) + c * (L / 100)^2 (§3.13.3.4, A.3.8, A.3.9)
     "emergency": {
-        "passenger_P": ((Fraction(900), ("2.30", "0", "0.17"), Fraction(400)), None),
-        "freight_P": ((Fraction(900), ("2.30", "0", "0.17"), Fraction(400)), (("-0.4", "1.6", "0.03"), 0)),
-        "freight_G": ((Fraction(900), ("12.0", "0", "0.05"), Fraction(0)), (("-0.4", "1.6", "0.03"), 0)),
+        "passenger_P": (("2.30", "0", "0.17"), None, 400),
+        "freight_P": (("2.30", "0", "0.17"), ("-0.4", "1.6", "0.03"), 400),
+        "freight_G": (("12.0", "0", "0.05"), ("-0.4", "1.6", "0.03"), 0),
     },
     "service": {
-        "passenger_P": ((Fraction(900), ("3.00", "1.5", "0.1"), Fraction(0)), None),
-        "freight_P": ((Fraction(900), ("3.00", "2.77", "0"), Fraction(0)), (("10.5", "0.32", "0.18"), 0)),
-        "freight_G": ((Fraction(900), ("3.00", "2.77", "0"), Fraction(400)), (("10.5", "0.32", "0.18"), 0)),
+        "passenger_P": (("3.00", "1.5", "0.1"), None, 0),
+        "freight_P": (("3.00", "2.77", "0"), ("10.5", "0.32", "0.18"), 0),
+        "freight_G": (("3.00", "2.77", "0"), ("10.5", "0.32", "0.18"), 400),
     },
 }
 _CT = {"passenger_P": Fraction("0.20"), "freight_P": Fraction("0.20"), "freight_G": Fraction("0.16")}
@@ -222,9 +222,10 @@ CONVERSION_LIMITS = {
 
 
 def _build_up_s(kind: str, position: str, length_m: Fraction) -> Fraction:
-    (longest, short_row, least), long_row = _BUILD_UP[kind][position]
-    a, b, c = map(Fraction, short_row if length_m <= longest else long_row[0])
-    el = max(length_m, least) if length_m <= longest else length_m
+    up_to_900, above_900, least_m = _BUILD_UP[kind][position]
+    short = length_m <= 900  # the conversion model refuses a passenger train above 900 m
+    a, b, c = map(Fraction, up_to_900 if short else above_900)
+    el = max(length_m, Fraction(least_m)) if short else length_m
     return a + b * (el / 100) + c * (el / 100) ** 2
 
 
