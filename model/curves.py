@@ -17,6 +17,12 @@ follow from the EBD:
 - ``d_EBI(v) = d_EBD(V_bec) - D_bec``, ``d_SBI = d_EBI - v*T_bs``, warning ``= d_SBI - v*T_warning``,
   permitted ``= d_SBI - v*T_driver``, indication ``= permitted - v*T_indication``.
 
+The end of authority at standstill is also supervised by its SBD, braking at ``A_expected = A_brake_service(V) +
+A_gradient`` to standstill there (Subset-026 §3.13.8.4): ``d_SBI1 = d_SBD(v) - v*T_bs``, compared with the
+estimated front, while the EBD's ``d_SBI2`` (above) is compared with the max safe front (§3.13.9.3.3, Table 9).
+A limit is passed when either is, so the SBI given for the EoA is the nearer of the two, and the warning,
+permitted and indication follow it.
+
 A curve that never constrains speed ``v`` (the target is at or above it) is at
 :data:`FAR_M`, ahead of any line.
 """
@@ -55,6 +61,11 @@ class Target(Generic[N]):
     location_m: N
     speed_mps: N
     ebd_foot_mps: N
+    sbd_front_gap_m: N | None = None
+    """For the end of authority at standstill: also supervised by its SBD (Subset-026 §3.13.8.4.1), whose SBI1
+    and the warning, permitted and indication from it (§3.13.9.3.3.1 to §3.13.9.3.6) are compared with the
+    estimated front, ``sbd_front_gap_m`` behind the max safe front every location here is compared with (Table 9);
+    None for a target supervised by its EBD only."""
 
 
 @dataclass(frozen=True)
@@ -88,31 +99,55 @@ def gradient_acceleration_mps2(o: Ops, t: TrainData, gradient_permille):
 
 
 def check_braking_capability(t: TrainData, n: NationalData, gradient_c: Profile) -> None:
-    """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe`` is positive (above
-    :data:`MIN_SPAN`) in every cell of the walk: the train can stop on every gradient (concrete data)."""
-    k = adhesion_factor(EXACT, t, n)
-    for j, gradient in enumerate(gradient_c.values):
-        for step, a_brake in enumerate(t.emergency_decelerations_mps2):
-            a_safe = k * a_brake + gradient_acceleration_mps2(EXACT, t, gradient)
-            if not a_safe > EXACT.const(MIN_SPAN):
-                raise TrainDataError(
-                    f"train data: emergency_decelerations_mps2[{step}] = {a_brake!r} gives A_safe = "
-                    f"{float(a_safe):.3f} m/s^2 on gradient_permille[{j}] = {gradient!r}: the train cannot stop there"
-                )
+    """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe`` and ``A_expected`` are positive
+    (above :data:`MIN_SPAN`) in every cell of the EBD's and the SBD's walks: the train can stop on every gradient
+    (concrete data)."""
+    for field, name, brake in (
+        ("emergency_decelerations_mps2", "A_safe", safe_brake(EXACT, t, n)),
+        ("service_decelerations_mps2", "A_expected", expected_brake(EXACT, t)),
+    ):
+        for j, gradient in enumerate(gradient_c.values):
+            for step, a_brake in enumerate(brake.decelerations_mps2):
+                a = brake.factor * a_brake + gradient_acceleration_mps2(EXACT, t, gradient)
+                if not a > EXACT.const(MIN_SPAN):
+                    raise TrainDataError(
+                        f"train data: {field}[{step}] = {a_brake!r} gives {name} = {float(a):.3f} m/s^2 on "
+                        f"gradient_permille[{j}] = {gradient!r}: the train cannot stop there"
+                    )
+
+
+@dataclass(frozen=True)
+class BrakeModel(Generic[N]):
+    """The deceleration a braking walk integrates: ``factor * decelerations_mps2[k]`` from ``speeds_mps[k]`` up
+    (the first step from 0), plus the gradient's acceleration."""
+
+    speeds_mps: tuple[N, ...]
+    decelerations_mps2: tuple[N, ...]
+    factor: N
+
+
+def safe_brake(o: Ops, t: TrainData, n: NationalData) -> BrakeModel:
+    """The EBD's: ``A_brake_safe(V) = K * A_brake_emergency(V)`` (Subset-026 §3.13.6.2.1)."""
+    return BrakeModel(t.emergency_speeds_mps, t.emergency_decelerations_mps2, adhesion_factor(o, t, n))
+
+
+def expected_brake(o: Ops, t: TrainData) -> BrakeModel:
+    """The SBD's: ``A_brake_service(V)`` without correction factors (``A_expected``, §3.13.6.3.1.3)."""
+    return BrakeModel(t.service_speeds_mps, t.service_decelerations_mps2, o.const(1))
 
 
 def braking_walk(
-    o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target_m, target_speed2, stop_m, stop_speed2
+    o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, target_m, target_speed2, stop_m, stop_speed2
 ):
-    """Walk backward from ``(target_m, target_speed2)`` along the EBD until the position reaches
-    ``stop_m`` or the squared speed reaches ``stop_speed2``: returns ``(position, squared speed)``.
+    """Walk backward from ``(target_m, target_speed2)`` along a braking curve (``brake`` plus the gradient's
+    acceleration) until the position reaches ``stop_m`` or the squared speed reaches ``stop_speed2``: returns
+    ``(position, squared speed)``.
 
     Cells are visited from the target backward, speed steps upward in each
     gradient segment (the speed only rises going backward). The first gradient
-    segment extends behind the profile's start. Needs ``A_safe > 0`` in every cell.
+    segment extends behind the profile's start. Needs a positive deceleration in every cell.
     """
-    k = adhesion_factor(o, t, n)
-    speeds, decels = t.emergency_speeds_mps, t.emergency_decelerations_mps2
+    speeds, decels, k = brake.speeds_mps, brake.decelerations_mps2, brake.factor
     position, speed2 = target_m, target_speed2
     starts = gradient_c.starts_m
     for j in reversed(range(len(starts))):
@@ -128,15 +163,15 @@ def braking_walk(
     return position, speed2
 
 
-def braking_walk_ahead(o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, from_m, from_speed2, stop_speed2):
-    """Walk forward from ``(from_m, from_speed2)`` along the EBD, braking until the squared speed falls to
-    ``stop_speed2``: returns ``(position, squared speed)``.
+def braking_walk_ahead(o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, from_m, from_speed2, stop_speed2):
+    """Walk forward from ``(from_m, from_speed2)`` along a braking curve, braking until the squared speed falls
+    to ``stop_speed2``: returns ``(position, squared speed)``.
 
     Cells are visited from ``from_m`` ahead, speed steps downward in each gradient segment (the speed only falls
-    going ahead); the last gradient segment extends past the profile's end. Needs ``A_safe > 0`` in every cell.
+    going ahead); the last gradient segment extends past the profile's end. Needs a positive deceleration in
+    every cell.
     """
-    k = adhesion_factor(o, t, n)
-    speeds, decels = t.emergency_speeds_mps, t.emergency_decelerations_mps2
+    speeds, decels, k = brake.speeds_mps, brake.decelerations_mps2, brake.factor
     position, speed2 = from_m, from_speed2
     ends = segment_ends(gradient_c)
     for j, gradient in enumerate(gradient_c.values):
@@ -155,14 +190,16 @@ def braking_walk_ahead(o: Ops, t: TrainData, n: NationalData, gradient_c: Profil
 def ebd_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, speed_mps):
     """Where the EBD reaches ``speed_mps`` (FAR_M if it never exceeds it)."""
     foot2 = target.ebd_foot_mps * target.ebd_foot_mps
-    position, _ = braking_walk(o, t, n, gradient_c, target.location_m, foot2, o.const(-FAR_M), speed_mps * speed_mps)
+    position, _ = braking_walk(
+        o, t, safe_brake(o, t, n), gradient_c, target.location_m, foot2, o.const(-FAR_M), speed_mps * speed_mps
+    )
     return o.ite(speed_mps <= target.ebd_foot_mps, o.const(FAR_M), position)
 
 
 def ebd_speed2_at(o: Ops, t, n, gradient_c: Profile, target: Target, x_m):
     """The EBD's squared speed at ``x_m`` (the foot speed squared at and past the target)."""
     foot2 = target.ebd_foot_mps * target.ebd_foot_mps
-    _, speed2 = braking_walk(o, t, n, gradient_c, target.location_m, foot2, x_m, o.const(HUGE_SPEED2))
+    _, speed2 = braking_walk(o, t, safe_brake(o, t, n), gradient_c, target.location_m, foot2, x_m, o.const(HUGE_SPEED2))
     return speed2
 
 
@@ -172,8 +209,25 @@ def ebd_reference_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, 
     continuing from the foot speed at the target down to standstill. Supervision never needs the part beyond the
     target (a target is supervised until the train reaches it); the reference values do."""
     foot2 = target.ebd_foot_mps * target.ebd_foot_mps
-    beyond_m, _ = braking_walk_ahead(o, t, n, gradient_c, target.location_m, foot2, speed_mps * speed_mps)
+    beyond_m, _ = braking_walk_ahead(
+        o, t, safe_brake(o, t, n), gradient_c, target.location_m, foot2, speed_mps * speed_mps
+    )
     return o.ite(speed_mps <= target.ebd_foot_mps, beyond_m, ebd_location_m(o, t, n, gradient_c, target, speed_mps))
+
+
+def sbd_location_m(o: Ops, t: TrainData, gradient_c: Profile, eoa_m, speed_mps):
+    """Where the SBD of the end of authority ``eoa_m`` reaches ``speed_mps``: braking at ``A_expected(V, d) =
+    A_brake_service(V) + A_gradient(d)`` to standstill at the EoA (Subset-026 §3.13.8.4.1); FAR_M at standstill."""
+    position, _ = braking_walk(
+        o, t, expected_brake(o, t), gradient_c, eoa_m, o.const(0), o.const(-FAR_M), speed_mps * speed_mps
+    )
+    return o.ite(speed_mps <= o.const(0), o.const(FAR_M), position)
+
+
+def sbi1_location_m(o: Ops, t: TrainData, gradient_c: Profile, eoa_m, speed_mps):
+    """The end of authority's SBI1 at ``speed_mps``: ``d_SBD(v) - v * T_bs1`` (Subset-026 §3.13.9.3.3.1; T_bs1 is
+    T_bs2, which the train data's ``t_bs_s`` gives, §3.13.9.3.3.3 to 5)."""
+    return sbd_location_m(o, t, gradient_c, eoa_m, speed_mps) - speed_mps * t.t_bs_s
 
 
 def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2):
@@ -197,10 +251,13 @@ def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target
 def curve_locations(
     o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
 ) -> CurveLocations:
-    """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
+    """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2`` (the
+    SBI of the end of authority the nearer of SBI1 and SBI2, module docstring)."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
     ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
     sbi = ebi - speed_mps * t.t_bs_s
+    if target.sbd_front_gap_m is not None:
+        sbi = o.min(sbi, sbi1_location_m(o, t, gradient_c, target.location_m, speed_mps) + target.sbd_front_gap_m)
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
         ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),
@@ -260,7 +317,10 @@ class CurveQuery(Generic[N, B]):
 
 @dataclass(frozen=True)
 class CurveOutputs(CurveLocations[N], Generic[N, B]):
-    pass
+    sbd_m: N
+    """Where the SBD of an end of authority at the target's location reaches the speed (:func:`sbd_location_m`)."""
+    sbi1_m: N
+    """That end of authority's SBI1: ``d_SBD(v) - v * T_bs`` (Subset-026 §3.13.9.3.3.1)."""
 
 
 def curve_target(p: CurveParams) -> Target:
@@ -273,7 +333,11 @@ def curve_gradient(p: CurveParams) -> Profile:
 
 def curves_step(o: Ops, p: CurveParams, s: Stateless, i: CurveQuery):
     locations = curve_locations(o, p, p, curve_gradient(p), curve_target(p), i.speed_mps, i.a_est_mps2)
-    return s, CurveOutputs(**{name: getattr(locations, name) for name in CurveLocations.__dataclass_fields__})
+    return s, CurveOutputs(
+        **{name: getattr(locations, name) for name in CurveLocations.__dataclass_fields__},
+        sbd_m=sbd_location_m(o, p, curve_gradient(p), p.target_m, i.speed_mps),
+        sbi1_m=sbi1_location_m(o, p, curve_gradient(p), p.target_m, i.speed_mps),
+    )
 
 
 DESIGN_CASE_SIZES = {

@@ -26,6 +26,7 @@ from atcs.model.curves import (
     curve_gradient,
     curve_target,
     ebd_location_m,
+    sbd_location_m,
 )
 from atcs.model.node import as_dict
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
@@ -162,31 +163,25 @@ def seed_gradient_acceleration_mps2(o, p, g):
     return o.const("9.81") * g / (o.const(1000) + o.const(10) * mass)
 
 
-def _ebd_is_braking_curve(o, p, s, i, out, nxt):
-    """Speed step by speed step of the emergency brake (``[V_b, V_b+1)``, the last one unbounded): between the
-    EBD's locations at the step's two ends (clamped to [foot speed, v]), ``hi^2 - lo^2 = 2 * sum over the
-    gradient segments of A_safe times the length of the segment between them``, with ``A_safe = K * A_brake(b)
-    + A_gradient`` stated from the seed: the kinetic energy A_safe takes away, without the walk. The first
-    segment extends behind the profile's start, the last beyond the line's end; a speed at or below the foot
-    speed is reached at the target."""
-    v, foot, target = i.speed_mps, p.target_ebd_foot_mps, p.target_m
-    starts, speeds = p.gradient_starts_m, p.emergency_speeds_mps
-    k = p.kdry_rst * (p.kwet_rst + p.m_nvavadh * (o.const(1) - p.kwet_rst))
-    gradient, aim = curve_gradient(p), curve_target(p)
-
-    def location(speed):
-        return o.ite(speed <= foot, target, ebd_location_m(o, p, p, gradient, aim, speed))
+def _energy_by_speed_step(o, p, v, foot, location, speeds, decelerations, factor):
+    """Speed step by speed step of a brake model (``[V_b, V_b+1)``, the last one unbounded): between the curve's
+    locations at the step's two ends (clamped to [foot speed, v]), ``hi^2 - lo^2 = 2 * sum over the gradient
+    segments of (factor * A_brake(b) + A_gradient) times the length of the segment between them``, A_gradient
+    stated from the seed. The first segment extends behind the profile's start, the last beyond the line's end."""
+    starts = p.gradient_starts_m
 
     def work(a_brake, behind, ahead):
         total = o.const(0)
         for j, g in enumerate(p.gradient_permille):
             low = behind if j == 0 else o.max(behind, starts[j])
             high = ahead if j + 1 == len(starts) else o.min(ahead, starts[j + 1])
-            total = total + (k * a_brake + seed_gradient_acceleration_mps2(o, p, g)) * o.max(o.const(0), high - low)
+            total = total + (factor * a_brake + seed_gradient_acceleration_mps2(o, p, g)) * o.max(
+                o.const(0), high - low
+            )
         return total
 
     energy = []
-    for b, a_brake in enumerate(p.emergency_decelerations_mps2):
+    for b, a_brake in enumerate(decelerations):
 
         def clamp(speed, b=b):
             speed = o.max(speed, speeds[b])
@@ -194,10 +189,44 @@ def _ebd_is_braking_curve(o, p, s, i, out, nxt):
 
         lo, hi = clamp(foot), clamp(v)
         energy.append(o.eq(hi * hi - lo * lo, o.const(2) * work(a_brake, location(hi), location(lo))))
+    return energy
+
+
+def _ebd_is_braking_curve(o, p, s, i, out, nxt):
+    """The EBD is the braking curve at ``A_safe = K * A_brake_emergency + A_gradient`` from its foot speed at the
+    target (:func:`_energy_by_speed_step`); a speed at or below the foot speed is reached at the target."""
+    v, foot, target = i.speed_mps, p.target_ebd_foot_mps, p.target_m
+    k = p.kdry_rst * (p.kwet_rst + p.m_nvavadh * (o.const(1) - p.kwet_rst))
+    gradient, aim = curve_gradient(p), curve_target(p)
+
+    def location(speed):
+        return o.ite(speed <= foot, target, ebd_location_m(o, p, p, gradient, aim, speed))
+
+    energy = _energy_by_speed_step(o, p, v, foot, location, p.emergency_speeds_mps, p.emergency_decelerations_mps2, k)
     top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
     return o.and_(
         o.implies(v <= foot, o.eq(out.ebd_m, o.const(FAR_M))),
         o.implies(o.and_(foot < v, v <= top), o.and_(o.eq(out.ebd_m, location(v)), *energy)),
+    )
+
+
+def _sbd_is_service_braking_curve(o, p, s, i, out, nxt):
+    """The SBD of an end of authority at the target is the braking curve at ``A_expected = A_brake_service +
+    A_gradient``, no correction factor, to standstill at the target (:func:`_energy_by_speed_step`), and SBI1 lies
+    ``v * T_bs`` before it."""
+    v, zero, target = i.speed_mps, o.const(0), p.target_m
+
+    def location(speed):
+        return o.ite(speed <= zero, target, sbd_location_m(o, p, curve_gradient(p), target, speed))
+
+    energy = _energy_by_speed_step(
+        o, p, v, zero, location, p.service_speeds_mps, p.service_decelerations_mps2, o.const(1)
+    )
+    top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
+    return o.and_(
+        o.implies(v <= zero, o.eq(out.sbd_m, o.const(FAR_M))),
+        o.implies(o.and_(zero < v, v <= top), o.and_(o.eq(out.sbd_m, location(v)), *energy)),
+        o.eq(out.sbi1_m, out.sbd_m - v * p.t_bs_s),
     )
 
 
@@ -262,6 +291,22 @@ def _properties(preset: str):
             ),
             node=node,
             holds=_ebd_is_braking_curve,
+            assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.sbd_is_service_braking_curve_{preset}",
+            requirement="CRV-11",
+            seed="000 §2.4.1 (Subset-026 3.13.8.4, 3.13.9.3.3.1)",
+            text=(
+                f"With the {preset} data and the design gradients: the SBD of an end of authority reaches a speed v "
+                "above 0 (up to the highest line speed) where braking at A_expected = A_brake_service + A_gradient, "
+                "stated from the seed without correction factors, takes v to standstill exactly at the EoA, speed "
+                "step by speed step of the service brake; at standstill it never constrains (FAR_M); SBI1 lies "
+                "v * T_bs before it."
+            ),
+            node=node,
+            holds=_sbd_is_service_braking_curve,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
         ),

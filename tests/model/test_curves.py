@@ -77,6 +77,15 @@ class TestTrainData:
             check_braking_capability(weak, NATIONAL, steep)
         check_braking_capability(TRAIN, NATIONAL, steep)
 
+    def test_a_service_brake_that_cannot_stop_on_the_gradient_is_refused(self):
+        weak = dataclasses.replace(TRAIN, service_decelerations_mps2=(Fraction(1, 5),))
+        steep = gradient_profile("gradient", [0, 100], [0, -40], 500)
+        with pytest.raises(
+            TrainDataError,
+            match=r"service_decelerations_mps2\[0\] = .* gives A_expected = -0.185 m/s\^2 on gradient_permille\[1\]",
+        ):
+            check_braking_capability(weak, NATIONAL, steep)
+
 
 speeds = st.integers(1, 40).map(Fraction)  # m/s
 
@@ -114,6 +123,39 @@ def test_behind_the_line_the_ebd_uses_the_gradient_in_force_at_its_start():
     assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, compensated, target, expected) == v * v
 
 
+WEAK_SERVICE_BRAKE = dataclasses.replace(TRAIN, service_decelerations_mps2=(Fraction(3, 10),))
+"""The seed 000 train with a service brake of 0.3 m/s^2, weaker than its safe emergency brake (0.8 m/s^2): the
+SBD lies behind the EBI, so the end of authority's SBI1 binds."""
+
+
+@pytest.mark.parametrize("gap_m", [Fraction(0), Fraction(5)])
+def test_the_end_of_authority_sbi_is_the_nearer_of_sbi1_and_sbi2(gap_m):
+    """SBI1 = d_SBD(v) - v * T_bs as a location of the max safe front (the estimated front ``gap_m`` behind it);
+    the warning, permitted and indication follow the SBI; the EBD and EBI are the EBD's alone."""
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
+    v = Fraction(80) / Fraction(36, 10)
+    eoa = Target(Fraction(2000), Fraction(0), Fraction(0), gap_m)
+    by_ebd = curve_locations(
+        EXACT, WEAK_SERVICE_BRAKE, NATIONAL, level, dataclasses.replace(eoa, sbd_front_gap_m=None), v, 0
+    )
+    loc = curve_locations(EXACT, WEAK_SERVICE_BRAKE, NATIONAL, level, eoa, v, 0)
+    sbd = 2000 - v * v / (2 * Fraction(3, 10))
+    assert curves.sbd_location_m(EXACT, WEAK_SERVICE_BRAKE, level, Fraction(2000), v) == sbd
+    assert loc.sbi_m == sbd - v * TRAIN.t_bs_s + gap_m < by_ebd.sbi_m
+    assert loc.warning_m == loc.sbi_m - v * NATIONAL.t_warning_s
+    assert loc.indication_m == loc.sbi_m - v * (NATIONAL.t_driver_s + NATIONAL.t_indication_s)
+    assert (loc.ebd_m, loc.ebi_m) == (by_ebd.ebd_m, by_ebd.ebi_m)
+    strong = curve_locations(EXACT, TRAIN, NATIONAL, level, eoa, v, 0)  # the seed train's SBD lies ahead
+    assert strong == curve_locations(
+        EXACT, TRAIN, NATIONAL, level, dataclasses.replace(eoa, sbd_front_gap_m=None), v, 0
+    )
+
+
+def test_the_sbd_never_constrains_at_standstill():
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
+    assert curves.sbd_location_m(EXACT, TRAIN, level, Fraction(2000), Fraction(0)) == curves.FAR_M
+
+
 def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
     level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
     v = Fraction(80) / Fraction(36, 10)
@@ -128,7 +170,7 @@ def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
 CURVE_PROPERTIES = select("curves.*")
 
 MUTANTS = {
-    # the indication curve at the permitted curve (atcs mutate's arith_drop at curve_locations:+14)
+    # the indication curve at the permitted curve (atcs mutate's arith_drop at curve_locations:+18)
     "spacing": [(curves.curve_locations, "permitted - speed_mps * n.t_indication_s", "permitted")],
     "order": [(curves.curve_locations, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
     "ebi_protects_ebd": [
@@ -138,10 +180,22 @@ MUTANTS = {
         (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
     "ebd_is_braking_curve": [
-        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+23)
+        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+19)
         (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
         # the rotating masses swapped (cmp_flip at gradient_acceleration_mps2:+3)
         (curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)"),
+    ],
+    "sbd_is_service_braking_curve": [
+        # the gradient left out of the walk's deceleration (shared with the EBD)
+        (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
+        # the SBD braking with the emergency brake's steps
+        (
+            curves.expected_brake,
+            "t.service_speeds_mps, t.service_decelerations_mps2",
+            "t.emergency_speeds_mps, t.emergency_decelerations_mps2",
+        ),
+        # SBI1 with the emergency brake's build-up time
+        (curves.sbi1_location_m, "speed_mps * t.t_bs_s", "speed_mps * t.t_be_s"),
     ],
     "ebi_from_brake_build_up": [
         # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows
@@ -212,7 +266,7 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
 
 
 def test_speed_steps_walked_in_order_on_the_stepped_brake():
-    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop at braking_walk:+19): the
+    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop at braking_walk:+20): the
     one-step presets never leave the last step, the three-step design case does (CRV-08)."""
     prop = PROPERTIES["curves.ebd_is_braking_curve_stepped"]
     old, new = "o.min(speeds[step + 1] * speeds[step + 1]", "o.min(speeds[1] * speeds[step + 1]"
