@@ -28,6 +28,8 @@ from atcs.model.train_data import NationalData, TrainData, TrainDataError
 
 __all__ = [
     "BRAKE_POSITIONS",
+    "SPECIAL_BRAKES",
+    "BrakeCombination",
     "ConvertedBrakes",
     "GammaBrakes",
     "IntegratedFactors",
@@ -39,10 +41,25 @@ __all__ = [
     "curve_train_data",
     "t_indication_s",
     "t_traction_s",
+    "with_special_brakes",
 ]
 
 BRAKE_POSITIONS = ("passenger_P", "freight_P", "freight_G")
 """§3.13.2.2.4.1: passenger train in P, freight train in P, freight train in G."""
+
+SPECIAL_BRAKES = ("regenerative", "eddy_current", "magnetic_shoe", "ep")
+"""§3.13.2.2.6.1: the special brakes whose status (active or not) selects the brake models."""
+
+DEPENDS_ON = {
+    "emergency": frozenset({"regenerative", "eddy_current", "magnetic_shoe"}),
+    "kdry_rst": frozenset({"regenerative", "eddy_current", "magnetic_shoe"}),
+    "kwet_rst": frozenset({"regenerative", "eddy_current", "magnetic_shoe"}),
+    "t_brake_emergency_s": frozenset(SPECIAL_BRAKES),
+    "service": frozenset({"regenerative", "eddy_current"}),
+    "t_brake_service_s": frozenset({"regenerative", "eddy_current", "ep"}),
+}
+"""§3.13.2.2.6.2 Table 4: the special brakes whose status each Gamma brake model depends on (the correction factors
+go with A_brake_emergency, one set per model, §3.13.2.2.9.1.2)."""
 
 T_INDICATION_MIN_S = Fraction(5)
 """§3.13.9.3.6.2: the least T_indication (s)."""
@@ -90,6 +107,14 @@ class GammaBrakes:
     service_mps2: StepFunction
     """A_brake_service(V)."""
     t_brake_service_s: Fraction
+
+
+@dataclass(frozen=True)
+class BrakeCombination:
+    """The Gamma brake models of one combination of active special brakes (§3.13.2.2.3.1.7, §3.13.2.2.3.2.8)."""
+
+    active: frozenset[str]
+    brakes: GammaBrakes
 
 
 @dataclass(frozen=True)
@@ -141,6 +166,9 @@ class RailTrain:
     """M_rotating_nom, or None when not known (M_rotating_max uphill, M_rotating_min downhill, §3.13.4.2)."""
     max_acceleration_mps2: Fraction = Fraction(0)
     v_ura_mps: Fraction = Fraction(0)
+    brake_combinations: tuple[BrakeCombination, ...] = ()
+    """A Gamma train's models for other combinations of active special brakes; ``brakes`` is the one with none
+    active (:func:`with_special_brakes` selects one)."""
 
     def __post_init__(self):
         if self.brake_position not in BRAKE_POSITIONS:
@@ -289,6 +317,26 @@ def _kr_int(factors: IntegratedFactors, length_m: Fraction) -> Fraction:
         for s, v in zip(reversed(factors.kr_int_lengths_m), reversed(factors.kr_int_values), strict=True)
         if s <= length_m
     )
+
+
+def with_special_brakes(train: RailTrain, active) -> RailTrain:
+    """``train`` with the brake models of the special brakes ``active`` (the others not active, §3.13.2.2.6.2):
+    ``brakes`` for none; otherwise the combination its data declares for exactly these, refused if it declares
+    none (Subset-026 does not say which models apply to a combination without data)."""
+    active = frozenset(active)
+    unknown = sorted(active - set(SPECIAL_BRAKES))
+    if unknown:
+        raise TrainDataError(f"{train.name}: special brake {unknown[0]!r} is not one of {', '.join(SPECIAL_BRAKES)}")
+    if not active:
+        return train
+    found = [c for c in train.brake_combinations if c.active == active]
+    if not found:
+        declared = "; ".join(", ".join(sorted(c.active)) for c in train.brake_combinations) or "none"
+        raise TrainDataError(
+            f"{train.name}: no brake models for the special brakes {', '.join(sorted(active))} active "
+            f"(combinations declared: {declared})"
+        )
+    return dataclasses.replace(train, brakes=found[0].brakes, brake_combinations=())
 
 
 def _brakes(train: RailTrain, m_nvavadh: Fraction, target_speed_kmh) -> tuple[StepFunction, Fraction, Fraction]:

@@ -12,6 +12,9 @@ from pathlib import Path
 
 from atcs.model.braking_data import (
     BRAKE_POSITIONS,
+    DEPENDS_ON,
+    SPECIAL_BRAKES,
+    BrakeCombination,
     GammaBrakes,
     IntegratedFactors,
     LambdaBrakes,
@@ -47,7 +50,24 @@ FIELDS = {
         "lambda",
     ),
     "interfaces": ("service_brake_command", "service_brake_feedback", "traction_cut_off_command"),
-    "gamma": ("t_brake_emergency_s", "t_brake_service_s", "emergency", "service", "kdry_rst", "kwet_rst"),
+    "gamma": (
+        "t_brake_emergency_s",
+        "t_brake_service_s",
+        "emergency",
+        "service",
+        "kdry_rst",
+        "kwet_rst",
+        "combination",
+    ),
+    "gamma.combination": (
+        "active",
+        "t_brake_emergency_s",
+        "t_brake_service_s",
+        "emergency",
+        "service",
+        "kdry_rst",
+        "kwet_rst",
+    ),
     "lambda": ("brake_percentage", "kr_int", "kt_int"),
 }
 """The fields of each table of a train data file (docs/train-data.md documents each)."""
@@ -85,12 +105,39 @@ def _steps(source: str, reader: _Reader, key: str, value_key: str, high) -> Step
     return StepFunction(tuple(speeds), tuple(values))
 
 
-def _gamma(source: str, table) -> GammaBrakes:
+def _gamma(source: str, table) -> tuple[GammaBrakes, tuple[BrakeCombination, ...]]:
+    """The models with no special brake active, and each ``[[gamma.combination]]``'s: the keys it gives (each one
+    Table 4 makes depend on one of its active brakes), the rest as with none active."""
     r = _Reader(source, table, "gamma", FIELDS["gamma"])
     one = [{"from_kmh": 0, "value": 1}]
     for key in ("kdry_rst", "kwet_rst"):
         if key not in r.table:
             r.table = {**r.table, key: one}
+    base = _gamma_brakes(source, r)
+    combinations, seen = [], set()
+    for k, row in enumerate(r.rows("combination")):
+        c = _Reader(source, row, f"gamma.combination[{k}]", FIELDS["gamma.combination"])
+        active = c.table.get("active")
+        if (
+            not isinstance(active, list)
+            or not active
+            or any(b not in SPECIAL_BRAKES for b in active)
+            or len(set(active)) != len(active)
+        ):
+            c.fail("active", f"must list distinct special brakes among {', '.join(SPECIAL_BRAKES)}")
+        active = frozenset(active)
+        if active in seen:
+            c.fail("active", "repeats an earlier combination")
+        seen.add(active)
+        for key in FIELDS["gamma.combination"][1:]:
+            if key in c.table and not DEPENDS_ON[key] & active:
+                c.fail(key, f"does not depend on {', '.join(sorted(active))} (Subset-026 §3.13.2.2.6.2 Table 4)")
+        c.table = {**{key: value for key, value in r.table.items() if key != "combination"}, **c.table}
+        combinations.append(BrakeCombination(active, _gamma_brakes(source, c)))
+    return base, tuple(combinations)
+
+
+def _gamma_brakes(source: str, r: _Reader) -> GammaBrakes:
     return GammaBrakes(
         emergency_mps2=_steps(source, r, "emergency", "mps2", MAX_DECELERATION_MPS2),
         kdry_rst=_steps(source, r, "kdry_rst", "value", 1),
@@ -131,12 +178,13 @@ def load_train(path: str | Path) -> RailTrain:
     rotating = top.optional_number("rotating_mass_percent")
     if rotating is not None and not 0 <= rotating <= 50:
         top.fail("rotating_mass_percent", "is outside [0, 50]")
+    brakes, combinations = _gamma(source, doc["gamma"]) if kinds == ["gamma"] else (_lambda(source, doc["lambda"]), ())
     train = RailTrain(
         name=top.text("name"),
         length_m=top.bounded("length_m", 0, MAX_LENGTH_M, low_open=True),
         max_speed_kmh=top.bounded("max_speed_kmh", 0, MAX_SPEED_KMH, low_open=True),
         brake_position=top.text("brake_position", choices=BRAKE_POSITIONS),
-        brakes=_gamma(source, doc["gamma"]) if kinds == ["gamma"] else _lambda(source, doc["lambda"]),
+        brakes=brakes,
         t_traction_cut_off_s=top.bounded("t_traction_cut_off_s", 0, MAX_TIME_S, 0),
         service_brake_command=interfaces.flag("service_brake_command", False),
         service_brake_feedback=interfaces.flag("service_brake_feedback", False),
@@ -144,6 +192,7 @@ def load_train(path: str | Path) -> RailTrain:
         rotating_mass_percent=rotating,
         max_acceleration_mps2=top.bounded("max_acceleration_mps2", 0, MAX_ACCELERATION_MPS2, 0),
         v_ura_mps=top.bounded("v_ura_kmh", 0, 20, 0) / KMH_PER_MPS,
+        brake_combinations=combinations,
     )
     if isinstance(train.brakes, LambdaBrakes):
         try:

@@ -24,6 +24,13 @@ def add_parser(subparsers) -> None:
         "(TOML, Gamma or Lambda, docs/train-data.md) with Subset-026's national values",
     )
     c.add_argument(
+        "--special-brakes",
+        metavar="BRAKE,...",
+        default="",
+        help="with a train data file: the special brakes active (regenerative, eddy_current, magnetic_shoe, ep), "
+        "whose brake models the file declares (default none active)",
+    )
+    c.add_argument(
         "--mrsp",
         metavar="M:KMH,...",
         default="0:80,600:60,900:70,1200:40",
@@ -108,12 +115,17 @@ def run(args, out, err) -> int:
 
 
 def braking_data_of(args):
-    """The train of the ``--train`` file (a usage error naming the file, the field and the value if bad)."""
+    """The train of the ``--train`` file with the brake models of ``--special-brakes`` (a usage error naming the
+    file, the field and the value if bad)."""
+    from atcs.model.braking_data import with_special_brakes
     from atcs.model.train_data import TrainDataError
     from atcs.model.train_files import load_train
 
     with reraised("curves: --train ", TrainDataError):
-        return load_train(args.train)
+        train = load_train(args.train)
+    active = [b.strip() for b in args.special_brakes.split(",") if b.strip()]
+    with reraised("curves: --special-brakes: ", TrainDataError):
+        return with_special_brakes(train, active)
 
 
 def _train(args):
@@ -122,6 +134,8 @@ def _train(args):
     from atcs.model import braking_data, train_data
 
     if args.train in train_data.PRESETS:
+        if args.special_brakes:
+            raise UsageError(f"curves: --special-brakes needs a train data file, not the preset {args.train!r}")
         train, national = (make() for make in train_data.PRESETS[args.train])
         return args.train, train, national
     if not args.train.endswith(".toml"):

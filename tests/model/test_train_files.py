@@ -4,11 +4,12 @@ file, the field and the value."""
 
 import dataclasses
 import re
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
 
-from atcs.model.braking_data import curve_train_data
+from atcs.model.braking_data import curve_train_data, with_special_brakes
 from atcs.model.train_data import TrainDataError, subset026_national
 from atcs.model.train_files import FIELDS, load_train, shipped_trains
 from atcs.proofs.cli import main
@@ -22,16 +23,16 @@ def _documented() -> dict[str, set[str]]:
     """The keys of each table the reference documents (its tables' first column)."""
     tables, current = {}, None
     for line in REFERENCE.read_text(encoding="utf-8").splitlines():
-        heading = re.match(r"## (?:`\[(\w+)\]`|Top level)", line)
+        heading = re.match(r"## (?:`\[\[?([\w.]+)\]?\]`|Top level)", line)
         if heading:
             current = heading.group(1) or ""
             tables[current] = set()
         elif current is not None and line.startswith("| `"):
             key = line.split("|")[1].strip().strip("`")
-            if key.startswith("["):  # a table row of the top level: `[interfaces]`, `[gamma]` or `[lambda]`
+            if key.startswith("["):  # a table row: `[interfaces]`, `[gamma]` or `[lambda]`, `[[combination]]`
                 tables[current] |= set(re.findall(r"\[(\w+)\]", key))
-            else:
-                tables[current].add(key)
+            else:  # one key, or several: `emergency`, `kdry_rst`, `kwet_rst`
+                tables[current] |= {k.strip().strip("`") for k in key.split(",")}
     return tables
 
 
@@ -97,3 +98,88 @@ def test_curves_draws_a_lambda_train_from_its_file(tmp_path, capsys):
 def test_curves_refuses_a_train_that_is_neither_preset_nor_file(capsys):
     assert main(["curves", "--train", "seed001"]) == 2
     assert "--train = 'seed001' is neither a preset (seed000, seed002) nor a .toml file" in capsys.readouterr().err
+
+
+# --- special brakes: the brake models of each combination of active special brakes (§3.13.2.2.6) ---
+
+REGENERATIVE = """
+[[gamma.combination]]
+active = ["regenerative"]
+service = [{ from_kmh = 0, mps2 = 1.2 }]
+t_brake_service_s = 1.5
+
+[[gamma.combination]]
+active = ["regenerative", "magnetic_shoe"]
+emergency = [{ from_kmh = 0, mps2 = 1.3 }]
+t_brake_emergency_s = 2.0
+"""
+
+
+def _with_combinations(tmp_path, extra=REGENERATIVE) -> Path:
+    path = tmp_path / "special.toml"
+    path.write_text(GAMMA + extra, encoding="utf-8")
+    return path
+
+
+def test_a_combination_selects_its_models_and_keeps_the_others(tmp_path):
+    train = load_train(_with_combinations(tmp_path))
+    assert with_special_brakes(train, []) is train
+    regenerative = with_special_brakes(train, ["regenerative"]).brakes
+    assert regenerative.service_mps2.values == (Fraction(6, 5),) and regenerative.t_brake_service_s == Fraction(3, 2)
+    assert regenerative.emergency_mps2 == train.brakes.emergency_mps2
+    assert regenerative.t_brake_emergency_s == train.brakes.t_brake_emergency_s
+    both = with_special_brakes(train, ["magnetic_shoe", "regenerative"]).brakes
+    assert both.emergency_mps2.values == (Fraction(13, 10),) and both.service_mps2 == train.brakes.service_mps2
+
+
+def test_the_selected_models_move_the_curves(tmp_path):
+    train, national = load_train(_with_combinations(tmp_path)), subset026_national()
+    base = curve_train_data(train, national, 0)
+    stronger = curve_train_data(with_special_brakes(train, ["regenerative", "magnetic_shoe"]), national, 0)
+    assert stronger.emergency_decelerations_mps2 == (Fraction(13, 10),) and stronger.t_be_s == 2
+    assert base.emergency_decelerations_mps2 == (Fraction(1),) and base.t_be_s == Fraction(5, 2)
+
+
+@pytest.mark.parametrize(
+    ("active", "message"),
+    [
+        (["eddy_current"], "no brake models for the special brakes eddy_current active (combinations declared: "),
+        (["rheostatic"], "special brake 'rheostatic' is not one of regenerative, eddy_current, magnetic_shoe, ep"),
+    ],
+)
+def test_an_undeclared_combination_is_refused(tmp_path, active, message):
+    with pytest.raises(TrainDataError, match=re.escape(message)):
+        with_special_brakes(load_train(_with_combinations(tmp_path)), active)
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            '[[gamma.combination]]\nactive = ["ep"]\nservice = [{ from_kmh = 0, mps2 = 1.2 }]\n',
+            "gamma.combination[0].service = [{'from_kmh': 0, 'mps2': 1.2}] does not depend on ep (Subset-026 "
+            "§3.13.2.2.6.2 Table 4)",
+        ),
+        ('[[gamma.combination]]\nactive = ["turbo"]\n', "gamma.combination[0].active = ['turbo'] must list distinct"),
+        ("[[gamma.combination]]\nactive = []\n", "gamma.combination[0].active = [] must list distinct"),
+        (
+            '[[gamma.combination]]\nactive = ["ep"]\n[[gamma.combination]]\nactive = ["ep"]\n',
+            "gamma.combination[1].active = ['ep'] repeats an earlier combination",
+        ),
+        ('[[gamma.combination]]\nactive = ["ep"]\nt_brake_service_s = 0\n', "t_brake_service_s = 0 is outside"),
+        ('[[gamma.combination]]\nactive = ["ep"]\nspeed = 1\n', "gamma.combination[0].speed: unknown field"),
+    ],
+)
+def test_a_bad_combination_is_named(tmp_path, extra, message):
+    with pytest.raises(TrainDataError, match=re.escape(message)):
+        load_train(_with_combinations(tmp_path, extra))
+
+
+def test_curves_takes_the_special_brakes_active(tmp_path, capsys):
+    train = _with_combinations(tmp_path)
+    argv = ["curves", "--train", str(train), "--eoa", "3000", "--mrsp", "0:160", "--gradient", "0:0"]
+    assert main([*argv, "--special-brakes", "regenerative", "--speed", "100", "--out", str(tmp_path)]) == 0
+    assert main([*argv, "--special-brakes", "eddy_current", "--out", str(tmp_path)]) == 2
+    assert "--special-brakes: gamma_passenger_P: no brake models for" in capsys.readouterr().err
+    assert main(["curves", "--special-brakes", "ep"]) == 2
+    assert "--special-brakes needs a train data file, not the preset 'seed000'" in capsys.readouterr().err
