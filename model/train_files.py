@@ -28,8 +28,9 @@ from atcs.model.train_data import MAX_BUILD_UP_S, TrainDataError
 
 __all__ = ["FIELDS", "load_train", "shipped_trains"]
 
-MAX_LENGTH_M = 1500
-"""The longest train (m): the conversion model's limit for freight trains (Subset-026 §3.13.3.2)."""
+MAX_LENGTH_M = 4095
+"""The longest train (m): the range of L_TRAIN (Subset-026 Appendix A.3.11); a Lambda train is held to the
+conversion model's own limits too (§3.13.3.2.1: 900 m in passenger P, 1,500 m in freight)."""
 MAX_DECELERATION_MPS2 = 5
 """The highest brake deceleration accepted (m/s^2): above any adhesion-limited train brake."""
 MAX_ACCELERATION_MPS2 = 5

@@ -59,7 +59,7 @@ GAMMA = shipped_trains()["gamma_passenger_P"].read_text(encoding="utf-8")
     [
         (LAMBDA, "brake_percentage = 100", "brake_percentage = 260", "brake_percentage = 260 is outside [30, 250]"),
         (LAMBDA, "length_m = 700", "length_m = 950", "length_m = 950 is above 900 for passenger_P"),
-        (LAMBDA, "length_m = 700", "length_m = 0", "length_m = 0 is outside (0, 1500]"),
+        (LAMBDA, "length_m = 700", "length_m = 0", "length_m = 0 is outside (0, 4095]"),
         (LAMBDA, "length_m = 700", 'length_m = "1e5000"', "length_m"),
         (LAMBDA, 'brake_position = "passenger_P"', 'brake_position = "P"', "brake_position = 'P' must be one of"),
         (LAMBDA, "[lambda]", "[lamda]", "lamda: unknown field"),
@@ -183,3 +183,18 @@ def test_curves_takes_the_special_brakes_active(tmp_path, capsys):
     assert "--special-brakes: gamma_passenger_P: no brake models for" in capsys.readouterr().err
     assert main(["curves", "--special-brakes", "ep"]) == 2
     assert "--special-brakes needs a train data file, not the preset 'seed000'" in capsys.readouterr().err
+
+
+def test_a_gamma_train_may_be_longer_than_the_conversion_model_allows(tmp_path):
+    """L_TRAIN ranges to 4,095 m (Appendix A.3.11); only a Lambda train is held to the conversion model's 1,500 m."""
+    path = tmp_path / "long.toml"
+    path.write_text(GAMMA.replace("length_m = 600", "length_m = 2000"), encoding="utf-8")
+    assert load_train(path).length_m == 2000
+    path.write_text(
+        LAMBDA.replace('brake_position = "passenger_P"', 'brake_position = "freight_P"').replace(
+            "length_m = 700", "length_m = 2000"
+        ),
+        encoding="utf-8",
+    )
+    with pytest.raises(TrainDataError, match="length_m = 2000 is above 1500 for freight_P"):
+        load_train(path)
