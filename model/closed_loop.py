@@ -3,9 +3,8 @@ braking curves and the plant (seed 000 §2.4 and §2.5; docs/design.md, the clos
 
 Each cycle the ATP reads the measured front and speed, takes the max safe front
 (measured + ``position_error_m``), and compares it with the location of each curve of
-the end of authority (EoA, target speed 0) at the measured speed (the SBD's SBI1 with the measured front,
-:func:`~atcs.model.curves.curve_locations`); it compares the measured speed with the ceilings MRSP + dV
-(:func:`~atcs.model.curves.ceiling_offset_mps`).
+the end of authority (EoA, target speed 0) at the measured speed; it compares the
+measured speed with the ceilings MRSP + dV (:func:`~atcs.model.curves.ceiling_offset_mps`).
 The limits exceeded go to the foundation's supervision decision
 (:func:`~atcs.model.supervision.supervise`): EB latched until standstill and release,
 service brake, warning. The emergency-brake command then drives the plant.
@@ -92,7 +91,7 @@ def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInpu
     front = i.measured_front_m + p.position_error_m
     speed = i.measured_speed_mps
     zero = o.const(0)
-    target = Target(eoa_m, zero, zero, p.position_error_m)
+    target = Target(eoa_m, zero, zero)
     curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
     over = exceedances(o, curve, ceiling, front, speed)
     # the measurement assumption (front within position_error_m of the truth) is what a valid position gives

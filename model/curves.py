@@ -17,11 +17,10 @@ follow from the EBD:
 - ``d_EBI(v) = d_EBD(V_bec) - D_bec``, ``d_SBI = d_EBI - v*T_bs``, warning ``= d_SBI - v*T_warning``,
   permitted ``= d_SBI - v*T_driver``, indication ``= permitted - v*T_indication``.
 
-The end of authority at standstill is also supervised by its SBD, braking at ``A_expected = A_brake_service(V) +
-A_gradient`` to standstill there (Subset-026 §3.13.8.4): ``d_SBI1 = d_SBD(v) - v*T_bs``, compared with the
-estimated front, while the EBD's ``d_SBI2`` (above) is compared with the max safe front (§3.13.9.3.3, Table 9).
-A limit is passed when either is, so the SBI given for the EoA is the nearer of the two, and the warning,
-permitted and indication follow it.
+The end of authority at standstill also has an SBD, braking at ``A_expected = A_brake_service(V) + A_gradient``
+to standstill there (Subset-026 §3.13.8.4, :func:`sbd_location_m`), and ``d_SBI1 = d_SBD(v) - v*T_bs``
+(:func:`sbi1_location_m`), which Subset-026 compares with the estimated front. Both are computed and proved
+(CRV-11) but not yet supervised: the SBI here is the EBD's (SBI2).
 
 A curve that never constrains speed ``v`` (the target is at or above it) is at
 :data:`FAR_M`, ahead of any line.
@@ -61,11 +60,6 @@ class Target(Generic[N]):
     location_m: N
     speed_mps: N
     ebd_foot_mps: N
-    sbd_front_gap_m: N | None = None
-    """For the end of authority at standstill: also supervised by its SBD (Subset-026 §3.13.8.4.1), whose SBI1
-    and the warning, permitted and indication from it (§3.13.9.3.3.1 to §3.13.9.3.6) are compared with the
-    estimated front, ``sbd_front_gap_m`` behind the max safe front every location here is compared with (Table 9);
-    None for a target supervised by its EBD only."""
 
 
 @dataclass(frozen=True)
@@ -251,13 +245,10 @@ def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target
 def curve_locations(
     o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
 ) -> CurveLocations:
-    """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2`` (the
-    SBI of the end of authority the nearer of SBI1 and SBI2, module docstring)."""
+    """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
     ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
     sbi = ebi - speed_mps * t.t_bs_s
-    if target.sbd_front_gap_m is not None:
-        sbi = o.min(sbi, sbi1_location_m(o, t, gradient_c, target.location_m, speed_mps) + target.sbd_front_gap_m)
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
         ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),

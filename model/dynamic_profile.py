@@ -89,13 +89,10 @@ def ceilings(o: Ops, n: NationalData, mrsp_mps) -> Ceilings:
     )
 
 
-def supervised_targets(
-    o: Ops, n: NationalData, horizon: Horizon, max_safe_front_m, estimated_front_m
-) -> tuple[Target, ...]:
+def supervised_targets(o: Ops, n: NationalData, horizon: Horizon, max_safe_front_m) -> tuple[Target, ...]:
     """The MRSP's speed decreases ahead of ``max_safe_front_m`` and short of the EoA, then the EoA
     (concrete profiles: the number of targets depends on the data). The EoA's EBD ends at standstill there
-    (the SvL, Subset-026 §3.13.8.3.2) and its SBD too, whose curves are compared with ``estimated_front_m``
-    (:class:`~atcs.model.curves.Target`); an EoA with a target speed above 0 (a limit of authority) is supervised
+    (the SvL, Subset-026 §3.13.8.3.2); an EoA with a target speed above 0 (a limit of authority) is supervised
     as a speed decrease, its EBD passing ``V_target + dV_ebi(V_target)`` at it (§3.13.8.3.1)."""
     mrsp = horizon.mrsp
     targets = [
@@ -104,10 +101,7 @@ def supervised_targets(
         if v < before and max_safe_front_m < start < horizon.eoa_m
     ]
     eoa_speed = horizon.eoa_speed_mps
-    if eoa_speed > 0:
-        targets.append(Target(horizon.eoa_m, eoa_speed, ebd_foot_mps(o, n, eoa_speed)))
-    else:
-        targets.append(Target(horizon.eoa_m, eoa_speed, eoa_speed, max_safe_front_m - estimated_front_m))
+    targets.append(Target(horizon.eoa_m, eoa_speed, ebd_foot_mps(o, n, eoa_speed) if eoa_speed > 0 else eoa_speed))
     return tuple(targets)
 
 
@@ -146,12 +140,11 @@ def exceedances(o: Ops, curve: CurveLocations, ceiling: Ceilings, front_m, speed
 
 
 def supervise_position(
-    o: Ops, t: TrainData, n: NationalData, horizon: Horizon, max_safe_front_m, estimated_front_m, speed_mps, a_est_mps2
+    o: Ops, t: TrainData, n: NationalData, horizon: Horizon, max_safe_front_m, speed_mps, a_est_mps2
 ) -> tuple[Exceedances, CurveLocations, Ceilings]:
     """One cycle's speed and distance monitoring on concrete data: targets, the curves at the train's
-    speed (as locations of its max safe front), the ceilings at its max safe front, and the exceedances (what
-    :func:`supervise` decides on)."""
-    targets = supervised_targets(o, n, horizon, max_safe_front_m, estimated_front_m)
+    speed, the ceilings at its max safe front, and the exceedances (what :func:`supervise` decides on)."""
+    targets = supervised_targets(o, n, horizon, max_safe_front_m)
     mrsp_mps = value_at(o, horizon.mrsp, max_safe_front_m)
     curve, ceiling = limits_at(o, t, n, horizon.gradient, targets, mrsp_mps, speed_mps, a_est_mps2)
     return exceedances(o, curve, ceiling, max_safe_front_m, speed_mps), curve, ceiling
@@ -175,7 +168,7 @@ def curve_speeds_at(
     speeds above its own, so every curve of a target ends at the target's speed (concrete backends only)."""
     if not tolerance_mps > 0:
         raise ValueError(f"tolerance_mps must be positive, got {tolerance_mps!r}")
-    targets = supervised_targets(o, n, horizon, x_m, x_m)
+    targets = supervised_targets(o, n, horizon, x_m)
     ceiling = ceilings(o, n, value_at(o, horizon.mrsp, x_m))
     speeds = {}
     for name in CURVE_NAMES:

@@ -34,7 +34,6 @@ from atcs.model.curves import (
     curve_locations,
     ebd_location_m,
     ebd_speed2_at,
-    sbd_location_m,
 )
 from atcs.model.dynamic_profile import ceilings
 from atcs.model.plant import max_gradient_acceleration_mps2, plant_gradient
@@ -321,31 +320,22 @@ def _supervises_eoa_and_ceilings(o, p, s, i, out, nxt):
     (:func:`ceiling_offset_mps`, CRV-03..05), a limit exceeded when the max safe front is beyond its curve or
     the measured speed above its ceiling; EB over the EBI or latched and not released at standstill, SB (the
     presets have a service brake) over the SBI or latched and over the permitted speed, the warning over the
-    warning limit. The EoA's SBD (Subset-026 §3.13.8.4) gives SBI1 = d_SBD(v) - v * T_bs, and the warning and
-    permitted limits T_warning and T_driver before it, each passed when the measured (estimated) front is beyond
-    it (Table 9): with the EBD's limits, compared with the max safe front, either passes the limit."""
+    warning limit."""
     zero, mrsp, speed = o.const(0), p.mrsp_mps, i.measured_speed_mps
     front = i.measured_front_m + p.position_error_m
     a_est = p.max_acceleration_mps2 + max_gradient_acceleration_mps2(o, p)
     curve = curve_locations(o, p, p, plant_gradient(p), Target(p.eoa_m, zero, zero), speed, a_est)
-    sbi1 = sbd_location_m(o, p, plant_gradient(p), p.eoa_m, speed) - speed * p.t_bs_s
 
-    def over(location_m, sbd_based_m, dv_min, dv_max, v_min, v_max):
+    def over(location_m, dv_min, dv_max, v_min, v_max):
         ceiling = mrsp if dv_min is None else mrsp + ceiling_offset_mps(o, mrsp, dv_min, dv_max, v_min, v_max)
-        beyond_sbd = o.const_bool(False) if sbd_based_m is None else i.measured_front_m > sbd_based_m
-        return o.or_(front > location_m, beyond_sbd, speed > ceiling)
+        return o.or_(front > location_m, speed > ceiling)
 
-    over_ebi = over(curve.ebi_m, None, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)
-    over_sbi = over(curve.sbi_m, sbi1, p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)
+    over_ebi = over(curve.ebi_m, p.dv_ebi_min_mps, p.dv_ebi_max_mps, p.v_ebi_min_mps, p.v_ebi_max_mps)
+    over_sbi = over(curve.sbi_m, p.dv_sbi_min_mps, p.dv_sbi_max_mps, p.v_sbi_min_mps, p.v_sbi_max_mps)
     over_warning = over(
-        curve.warning_m,
-        sbi1 - speed * p.t_warning_s,
-        p.dv_warning_min_mps,
-        p.dv_warning_max_mps,
-        p.v_warning_min_mps,
-        p.v_warning_max_mps,
+        curve.warning_m, p.dv_warning_min_mps, p.dv_warning_max_mps, p.v_warning_min_mps, p.v_warning_max_mps
     )
-    over_permitted = over(curve.permitted_m, sbi1 - speed * p.t_driver_s, None, None, None, None)
+    over_permitted = over(curve.permitted_m, None, None, None, None)
     eb = o.or_(over_ebi, o.and_(s.eb_latched, o.not_(o.and_(i.standstill, i.eb_release))))
     sb = o.or_(over_sbi, o.and_(s.sb_latched, over_permitted))
     return o.and_(

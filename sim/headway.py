@@ -394,7 +394,7 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
 
     def curves(gap, route_locked):
         horizon = Horizon(mrsp=mrsp, gradient=plant_gradient(p), eoa_m=eoa_m(gap, route_locked), eoa_speed_mps=zero)
-        return supervise_position(o, p, p, horizon, front_max, zero, speed_mps, a_est)[1]
+        return supervise_position(o, p, p, horizon, front_max, speed_mps, a_est)[1]
 
     def ato_cruises(gap, route_locked):
         target = ato_target_speed(

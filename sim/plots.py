@@ -65,7 +65,7 @@ def sampled_curves(
     positions = np.linspace(from_m, to_m, samples)
     mrsp = np.array([float(value_at(o, horizon.mrsp, x)) for x in positions])
     top_speed = float(max(horizon.mrsp.values)) * 1.5 + 10
-    targets = supervised_targets(o, n, horizon, from_m, from_m)
+    targets = supervised_targets(o, n, horizon, from_m)
     speeds = {name: np.full(samples, np.inf) for name in CURVE_NAMES}
     for target in targets:
         # finer near the target's speeds, where the curves end

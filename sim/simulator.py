@@ -426,7 +426,7 @@ class Simulation:
         horizon = Horizon(mrsp=train.mrsp, gradient=train.gradient, eoa_m=eoa_m, eoa_speed_mps=0.0)
         a_est = float(train.plant.max_acceleration_mps2)
         over, curves, _ = supervise_position(
-            FLOAT, train.train_data, train.national, horizon, pos.front_max_m, pos.front_est_m, pos.speed_est_mps, a_est
+            FLOAT, train.train_data, train.national, horizon, pos.front_max_m, pos.speed_est_mps, a_est
         )
         departed = t >= float(spec.depart_s)
         released = (departed and not train.started) or (

@@ -38,7 +38,7 @@ def synthetic_horizon(rng: np.random.Generator, front_m: float = 0.0) -> Horizon
 
 def segment_cycle(t, n, horizon: Horizon, front_m: float, speed_mps: float, a_est_mps2: float):
     """The model's cycle: targets, curves at the train's position and speed, ceilings, commands."""
-    over, curve, _ = supervise_position(FLOAT, t, n, horizon, front_m, front_m, speed_mps, a_est_mps2)
+    over, curve, _ = supervise_position(FLOAT, t, n, horizon, front_m, speed_mps, a_est_mps2)
     state = SupervisionState(eb_latched=False, sb_latched=False)
     _, commands = supervise(FLOAT, SupervisionParams(True), state, over, speed_mps == 0, False, True)
     return over, curve, commands
@@ -48,7 +48,7 @@ def per_metre_cycle(t, n, horizon: Horizon, front_m: float, speed_mps: float, a_
     """The array formulation: each target's EBD integrated backward metre by metre (all targets at
     once, numpy; the foot speed from the target on), their minimum as the EBD speed per metre, then
     each curve checked by a lookup at the distance its offsets put it ahead of the front."""
-    targets = supervised_targets(FLOAT, n, horizon, front_m, front_m)
+    targets = supervised_targets(FLOAT, n, horizon, front_m)
     start = int(np.floor(front_m))
     metres = np.arange(start, int(np.ceil(float(horizon.eoa_m))) + 1, dtype=float)
     g_index = np.searchsorted(np.asarray(horizon.gradient.starts_m), metres, side="right") - 1
@@ -109,7 +109,7 @@ def bench_cycle(
         t2 = time.perf_counter()
         segment_s.append(t1 - t0)
         metre_s.append(t2 - t1)
-        targets.append(len(supervised_targets(FLOAT, n_f, horizon, front, front)))
+        targets.append(len(supervised_targets(FLOAT, n_f, horizon, front)))
         for name in ("ebi", "sbi"):
             compared += 1
             same = getattr(over, f"over_{name}") == arrays[name]

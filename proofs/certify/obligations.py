@@ -7,8 +7,7 @@ itself, its lemmas assumed. Its certificate is three kinds of script, each of wh
 - ``base``: a run from an initial state of k + 1 steps (every transition taken, every assumption and lemma
   holding) on which the property fails at some step 0 .. k;
 - ``step``: a path of k + 1 pairwise distinct states from any state, the property holding at steps 0 .. k-1
-  and failing at step k, on the property's cone of influence (the state it reads, :mod:`atcs.proofs.engine.system`)
-  (one script per case when the property splits its step, plus the states in no case:
+  and failing at step k (one script per case when the property splits its step, plus the states in no case:
   the split is ``Property.certificate_cases`` when the property has one, else the engine's ``Property.cases``);
 - ``invariant``: a step where ``phi`` holds and the property does not.
 
@@ -96,13 +95,7 @@ def obligations(prop: Property, k: int, lemmas: Mapping[str, Property]) -> tuple
                 _script(header, "base", [*initial, *path, z3.Not(_all(f.prop for f in frames))]),
             )
         ]
-        cone_path = [z3.And(u.trans_cone(j), f.assumed, f.lemmas) for j, f in enumerate(frames)]
-        step = [
-            *cone_path,
-            *(u.distinct(j, k, cone=True) for j in range(k)),
-            *(f.prop for f in frames[:k]),
-            z3.Not(frames[k].prop),
-        ]
+        step = [*path, *(u.distinct(j, k) for j in range(k)), *(f.prop for f in frames[:k]), z3.Not(frames[k].prop)]
         claim = (
             f"{prop.name} holds after any {k} distinct steps on which it held"
             if k

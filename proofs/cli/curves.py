@@ -193,7 +193,7 @@ def _print_locations(out, train, national, horizon, q: dict) -> None:
     table.add_column("target (m @ km/h)")
     for name in CURVE_NAMES:
         table.add_column(name, justify="right")
-    for target in supervised_targets(EXACT, national, horizon, q["front_m"], q["front_m"]):
+    for target in supervised_targets(EXACT, national, horizon, q["front_m"]):
         at = curve_locations(EXACT, train, national, q["gradient"], target, q["speed"], q["a_est"])
         cells = [getattr(at, f"{name}_m") for name in CURVE_NAMES]
         table.add_row(

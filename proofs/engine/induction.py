@@ -13,10 +13,7 @@ call covers the states in none of the cases, so the split never loses a state.
 
 Why the simple-path constraint is sound: a shortest run to a violation never
 visits a state twice (cutting the loop would give a shorter one), so its last
-k + 1 states are distinct. The step is checked on the property's cone of
-influence (:mod:`atcs.proofs.engine.system`): transitions and distinctness of
-the state fields the property reads, directly or through their next values; the
-node restricted to them is a transition system of its own with the same verdict.
+k + 1 states are distinct.
 """
 
 from __future__ import annotations
@@ -43,9 +40,9 @@ class Induction:
         if k > 0:
             self.solver.add(self.u.frame(k - 1).prop)
         f = self.u.frame(k)
-        self.solver.add(self.u.trans_cone(k), f.assumed, f.lemmas)
+        self.solver.add(f.trans, f.assumed, f.lemmas)
         for j in range(k):
-            self.solver.add(self.u.distinct(j, k, cone=True))
+            self.solver.add(self.u.distinct(j, k))
         self.depth = k
         if self.u.prop.cases is None:
             return solve(self.solver, z3.Not(f.prop), timeout_s)

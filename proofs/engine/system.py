@@ -11,14 +11,6 @@
 
 Parameters are one set of constants for the whole run (``name``, no ``@``):
 symbolic unless the property fixes them.
-
-The *cone of influence* (:meth:`Unrolling.cone`) is the state fields the property, its assumptions, lemmas and
-cases read, closed under the fields each one's next value reads. The fields outside it never influence the
-property: a node restricted to the cone (``Frame.trans_cone``, :meth:`Unrolling.distinct` over the cone) is a
-transition system of its own whose runs are exactly the projections of the node's runs, so the property holds
-on the one if and only if it holds on the other. The inductive step is checked on the cone (as Kind 2 slices to
-it), which keeps a proof from depending on state it does not read, such as the service-brake latch in a theorem
-about the emergency brake.
 """
 
 from __future__ import annotations
@@ -75,24 +67,6 @@ def equal(left, right) -> Bool:
     return SYMBOLIC.eq(left, right)
 
 
-def _fields_read(term: z3.ExprRef, at: tuple[str, ...]) -> set[str]:
-    """The fields (``name`` of ``name@k`` or ``name[j]@k``, ``k`` in ``at``: state or inputs) whose constants
-    ``term`` reads."""
-    seen, fields, todo = set(), set(), [term]
-    while todo:
-        t = todo.pop()
-        if t.get_id() in seen:
-            continue
-        seen.add(t.get_id())
-        if z3.is_const(t) and t.decl().kind() == z3.Z3_OP_UNINTERPRETED:
-            label, _, step = str(t).rpartition("@")
-            if step in at:
-                fields.add(label.partition("[")[0])
-        else:
-            todo.extend(t.children())
-    return fields
-
-
 @dataclass
 class Frame:
     state: object
@@ -103,8 +77,6 @@ class Frame:
     assumed: z3.BoolRef
     prop: z3.BoolRef
     lemmas: z3.BoolRef
-    field_trans: dict[str, z3.BoolRef]
-    """Each state field's next value, as the equality ``trans`` conjoins."""
 
 
 class Unrolling:
@@ -121,7 +93,6 @@ class Unrolling:
         self.params = self.node.params(**values)
         self.frames: list[Frame] = []
         self._states = [variables(self.node.state, self.node, "state", "0")]
-        self._cone: tuple[str, ...] | None = None
 
     def state(self, k: int):
         """The state variables ``field@k``."""
@@ -144,42 +115,18 @@ class Unrolling:
         computed, out = node.step(o, p, s, i)
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
-        equalities = {n: equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state")}
-        trans = unwrap(o.and_(*equalities.values()))
-        field_trans = {n: unwrap(e) for n, e in equalities.items()}
+        trans = unwrap(o.and_(*(equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state"))))
         assumed = unwrap(self.prop.assumed(o, p, s, i))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
         lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
-        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, lemmas, field_trans))
+        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, lemmas))
 
-    def cone(self) -> tuple[str, ...]:
-        """The state fields in the property's cone of influence (module docstring), in the node's order."""
-        if self._cone is None:
-            f = self.frame(0)
-            read = {t.get_id(): t for t in (f.assumed, f.prop, f.lemmas)}
-            if self.prop.cases is not None:
-                for case in self.prop.cases(SYMBOLIC, self.params, self.state(0)):
-                    read[unwrap(case).get_id()] = unwrap(case)
-            state = set(f.field_trans)
-            todo = set().union(*(_fields_read(t, ("0", "1")) for t in read.values())) & state
-            cone: set[str] = set()
-            while todo:
-                name = todo.pop()
-                cone.add(name)
-                todo |= (_fields_read(f.field_trans[name], ("0",)) & state) - cone
-            self._cone = tuple(n for n in self.node.sorts("state") if n in cone)
-        return self._cone
-
-    def trans_cone(self, k: int) -> z3.BoolRef:
-        """Frame ``k``'s transition restricted to the cone of influence."""
-        f = self.frame(k)
-        return unwrap(SYMBOLIC.and_(*(Bool(f.field_trans[n]) for n in self.cone())))
-
-    def distinct(self, a: int, b: int, *, cone: bool = False) -> z3.BoolRef:
-        """States ``a`` and ``b`` differ in at least one field (of the cone of influence, with ``cone``)."""
+    def distinct(self, a: int, b: int) -> z3.BoolRef:
+        """States ``a`` and ``b`` differ in at least one field."""
         sa, sb = self.state(a), self.state(b)
-        names = self.cone() if cone else tuple(self.node.sorts("state"))
-        return unwrap(SYMBOLIC.or_(*(SYMBOLIC.not_(equal(getattr(sa, n), getattr(sb, n))) for n in names)))
+        return unwrap(
+            SYMBOLIC.or_(*(SYMBOLIC.not_(equal(getattr(sa, n), getattr(sb, n))) for n in self.node.sorts("state")))
+        )
 
 
 def model_value(model: z3.ModelRef, value):

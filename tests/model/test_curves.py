@@ -123,34 +123,6 @@ def test_behind_the_line_the_ebd_uses_the_gradient_in_force_at_its_start():
     assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, compensated, target, expected) == v * v
 
 
-WEAK_SERVICE_BRAKE = dataclasses.replace(TRAIN, service_decelerations_mps2=(Fraction(3, 10),))
-"""The seed 000 train with a service brake of 0.3 m/s^2, weaker than its safe emergency brake (0.8 m/s^2): the
-SBD lies behind the EBI, so the end of authority's SBI1 binds."""
-
-
-@pytest.mark.parametrize("gap_m", [Fraction(0), Fraction(5)])
-def test_the_end_of_authority_sbi_is_the_nearer_of_sbi1_and_sbi2(gap_m):
-    """SBI1 = d_SBD(v) - v * T_bs as a location of the max safe front (the estimated front ``gap_m`` behind it);
-    the warning, permitted and indication follow the SBI; the EBD and EBI are the EBD's alone."""
-    level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
-    v = Fraction(80) / Fraction(36, 10)
-    eoa = Target(Fraction(2000), Fraction(0), Fraction(0), gap_m)
-    by_ebd = curve_locations(
-        EXACT, WEAK_SERVICE_BRAKE, NATIONAL, level, dataclasses.replace(eoa, sbd_front_gap_m=None), v, 0
-    )
-    loc = curve_locations(EXACT, WEAK_SERVICE_BRAKE, NATIONAL, level, eoa, v, 0)
-    sbd = 2000 - v * v / (2 * Fraction(3, 10))
-    assert curves.sbd_location_m(EXACT, WEAK_SERVICE_BRAKE, level, Fraction(2000), v) == sbd
-    assert loc.sbi_m == sbd - v * TRAIN.t_bs_s + gap_m < by_ebd.sbi_m
-    assert loc.warning_m == loc.sbi_m - v * NATIONAL.t_warning_s
-    assert loc.indication_m == loc.sbi_m - v * (NATIONAL.t_driver_s + NATIONAL.t_indication_s)
-    assert (loc.ebd_m, loc.ebi_m) == (by_ebd.ebd_m, by_ebd.ebi_m)
-    strong = curve_locations(EXACT, TRAIN, NATIONAL, level, eoa, v, 0)  # the seed train's SBD lies ahead
-    assert strong == curve_locations(
-        EXACT, TRAIN, NATIONAL, level, dataclasses.replace(eoa, sbd_front_gap_m=None), v, 0
-    )
-
-
 def test_the_sbd_never_constrains_at_standstill():
     level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
     assert curves.sbd_location_m(EXACT, TRAIN, level, Fraction(2000), Fraction(0)) == curves.FAR_M
@@ -213,11 +185,14 @@ EQUIVALENT_FOR = {
     preset: {
         "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)",  # V_ura 0, and inhibited
         "o.max(zero, t.t_be_s - t.t_traction_s)",  # T_traction 0
+        "t.service_speeds_mps, t.service_decelerations_mps2",  # A_brake_service = A_brake_safe
     }
     for preset in ("gamma", "lambda")
 }
 """Mutants that change nothing for a preset's data, by preset: the ERA frames' trains have no speed
-inaccuracy and no traction cut-off time (each of their properties keeps another mutant that falsifies it)."""
+inaccuracy, no traction cut-off time, and a service brake model equal to their safe emergency brake (the Gamma
+train's are both 1.0 m/s^2 with correction factors 1, the Lambda train's both the conversion model's at 100 %);
+each of their properties keeps another mutant that falsifies it."""
 
 
 def _kind(prop):

@@ -42,7 +42,7 @@ def _kmh(v):
 
 
 def test_targets_are_the_speed_decreases_ahead_and_the_end_of_authority():
-    targets = supervised_targets(EXACT, NATIONAL, HORIZON, Fraction(100), Fraction(100))
+    targets = supervised_targets(EXACT, NATIONAL, HORIZON, Fraction(100))
     assert [(t.location_m, t.speed_mps) for t in targets] == [
         (600, _kmh(60)),
         (1200, _kmh(40)),
@@ -53,24 +53,22 @@ def test_targets_are_the_speed_decreases_ahead_and_the_end_of_authority():
 
 
 def test_a_decrease_at_or_behind_the_max_safe_front_is_left_to_the_ceiling():
-    targets = supervised_targets(EXACT, NATIONAL, HORIZON, Fraction(600), Fraction(600))
+    targets = supervised_targets(EXACT, NATIONAL, HORIZON, Fraction(600))
     assert [t.location_m for t in targets] == [1200, 1500]
 
 
 def test_decreases_beyond_the_end_of_authority_are_not_targets():
     short = Horizon(MRSP, GRADIENT, Fraction(1000), Fraction(0))
-    assert [t.location_m for t in supervised_targets(EXACT, NATIONAL, short, Fraction(0), Fraction(0))] == [600, 1000]
+    assert [t.location_m for t in supervised_targets(EXACT, NATIONAL, short, Fraction(0))] == [600, 1000]
 
 
 def test_the_ma_target_speed_is_the_eoa_targets():
     """An EoA at standstill is the SvL: its EBD ends at 0 there (Subset-026 §3.13.8.3.2); one with a target speed
     (a limit of authority) is a speed decrease: its EBD passes V_target + dV_ebi at it (§3.13.8.3.1)."""
     radio = Horizon(MRSP, GRADIENT, Fraction(1500), _kmh(20))
-    eoa = supervised_targets(EXACT, NATIONAL, radio, Fraction(0), Fraction(0))[-1]
+    eoa = supervised_targets(EXACT, NATIONAL, radio, Fraction(0))[-1]
     assert (eoa.speed_mps, eoa.ebd_foot_mps) == (_kmh(20), _kmh(20) + NATIONAL.dv_ebi_min_mps)
-    svl = supervised_targets(
-        EXACT, NATIONAL, Horizon(MRSP, GRADIENT, Fraction(1500), Fraction(0)), Fraction(0), Fraction(0)
-    )[-1]
+    svl = supervised_targets(EXACT, NATIONAL, Horizon(MRSP, GRADIENT, Fraction(1500), Fraction(0)), Fraction(0))[-1]
     assert (svl.speed_mps, svl.ebd_foot_mps) == (0, 0)
 
 
@@ -97,10 +95,10 @@ def test_ebd_foot_follows_the_speed_dependent_dv_ebi():
 @given(front_m=st.integers(0, 1499), speed_kmh=st.integers(0, 100))
 def test_each_curve_is_the_nearest_targets(front_m, speed_kmh):
     front, speed = Fraction(front_m), _kmh(speed_kmh)
-    _, curve, _ = supervise_position(EXACT, TRAIN, NATIONAL, HORIZON, front, front, speed, A_EST)
+    _, curve, _ = supervise_position(EXACT, TRAIN, NATIONAL, HORIZON, front, speed, A_EST)
     singles = [
         curve_locations(EXACT, TRAIN, NATIONAL, GRADIENT, t, speed, A_EST)
-        for t in supervised_targets(EXACT, NATIONAL, HORIZON, front, front)
+        for t in supervised_targets(EXACT, NATIONAL, HORIZON, front)
     ]
     for name in CURVE_NAMES:
         assert getattr(curve, f"{name}_m") == min(getattr(c, f"{name}_m") for c in singles)
@@ -110,10 +108,10 @@ def test_each_curve_is_the_nearest_targets(front_m, speed_kmh):
 @given(front_m=st.integers(0, 1499), speed_kmh=st.integers(0, 100))
 def test_float_and_exact_backends_agree_on_the_exceedances(front_m, speed_kmh):
     over_exact, curve, _ = supervise_position(
-        EXACT, TRAIN, NATIONAL, HORIZON, Fraction(front_m), Fraction(front_m), _kmh(speed_kmh), A_EST
+        EXACT, TRAIN, NATIONAL, HORIZON, Fraction(front_m), _kmh(speed_kmh), A_EST
     )
     over_float, _, _ = supervise_position(
-        FLOAT, TRAIN, NATIONAL, _float_horizon(), float(front_m), float(front_m), float(_kmh(speed_kmh)), 1.0
+        FLOAT, TRAIN, NATIONAL, _float_horizon(), float(front_m), float(_kmh(speed_kmh)), 1.0
     )
     near_a_curve = any(abs(getattr(curve, f"{name}_m") - front_m) < Fraction(1, 1000) for name in CURVE_NAMES)
     if not near_a_curve:  # rounding may tip a comparison within a millimetre of a curve
@@ -121,14 +119,12 @@ def test_float_and_exact_backends_agree_on_the_exceedances(front_m, speed_kmh):
 
 
 def test_a_train_on_a_fast_approach_is_over_the_ebi():
-    over, curve, _ = supervise_position(EXACT, TRAIN, NATIONAL, HORIZON, Fraction(560), Fraction(560), _kmh(80), A_EST)
+    over, curve, _ = supervise_position(EXACT, TRAIN, NATIONAL, HORIZON, Fraction(560), _kmh(80), A_EST)
     assert over.over_ebi and curve.ebi_m < 560
 
 
 def test_the_ceilings_supervise_the_mrsp_at_the_front():
-    over, _, ceiling = supervise_position(
-        EXACT, TRAIN, NATIONAL, HORIZON, Fraction(700), Fraction(700), _kmh(64), A_EST
-    )
+    over, _, ceiling = supervise_position(EXACT, TRAIN, NATIONAL, HORIZON, Fraction(700), _kmh(64), A_EST)
     assert ceiling.permitted_mps == _kmh(60)
     assert over.over_permitted and not over.over_ebi
 
@@ -146,7 +142,7 @@ def test_curve_speed_is_the_highest_speed_not_over_the_curve(x_m):
     tolerance = Fraction(1, 1000)
     speeds = curve_speeds_at(TRAIN, NATIONAL, HORIZON, x, A_EST, o=EXACT, tolerance_mps=tolerance)
     ceiling = ceilings(EXACT, NATIONAL, MRSP.values[max(j for j, s in enumerate(MRSP.starts_m) if s <= x)])
-    targets = supervised_targets(EXACT, NATIONAL, HORIZON, x, x)
+    targets = supervised_targets(EXACT, NATIONAL, HORIZON, x)
 
     def location(name, v):
         return min(

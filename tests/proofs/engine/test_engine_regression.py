@@ -8,8 +8,6 @@ import pytest
 
 from atcs.proofs.cex.trace import reproduce
 from atcs.proofs.engine.prove import prove
-from atcs.proofs.engine.system import Unrolling
-from atcs.properties import PROPERTIES
 
 ROOT = Path(__file__).parent / "regression"
 
@@ -115,23 +113,3 @@ def test_node_validates_array_sizes(sizes, message):
 
     with pytest.raises(ValueError, match=message):
         dataclasses.replace(sys.modules["regression_models"].SHIFT, sizes=sizes)
-
-
-# --- the cone of influence the inductive step is checked on (proofs/engine/system.py) ---
-
-
-def test_the_cone_keeps_state_read_through_next_values_and_drops_the_rest():
-    cone_model = MODULES["proved/cone_of_influence"].PROPERTIES[0]
-    assert Unrolling(cone_model).cone() == ("latch", "offset")
-
-
-def test_an_emergency_brake_theorem_does_not_read_the_service_brake_latch():
-    prop = PROPERTIES["closed_loop.no_overrun_seed000"]
-    cone = Unrolling(prop, tuple(PROPERTIES[name] for name in prop.lemmas)).cone()
-    assert "sb_latched" not in cone
-    assert {"front_m", "speed_mps", "brake_cycles", "eb_latched"} <= set(cone)
-
-
-def test_a_property_reading_every_field_keeps_them_all():
-    prop = PROPERTIES["closed_loop.state_follows_plant_and_atp_seed000"]
-    assert set(Unrolling(prop).cone()) == set(prop.node.sorts("state"))
