@@ -69,7 +69,7 @@ FIELDS = {
         "kdry_rst",
         "kwet_rst",
     ),
-    "lambda": ("brake_percentage", "kr_int", "kt_int"),
+    "lambda": ("brake_percentage", "kv_int", "a_nvp12_mps2", "a_nvp23_mps2", "kr_int", "kt_int"),
 }
 """The fields of each table of a train data file (docs/train-data.md documents each)."""
 
@@ -149,16 +149,39 @@ def _gamma_brakes(source: str, r: _Reader) -> GammaBrakes:
     )
 
 
-def _lambda(source: str, table) -> LambdaBrakes:
+def _kv_int(source: str, r: _Reader, brake_position: str) -> tuple[StepFunction, StepFunction]:
+    """``kv_int = [{from_kmh = 0, a = ..., b = ...}, ...]``: the national Kv_int(V) (§3.13.6.2.2), a and b per step
+    for a passenger train (interpolated by A_ebmax between the pivots), ``a`` alone for a freight train."""
+    passenger = brake_position == "passenger_P"
+    rows = r.rows("kv_int")
+    if not 1 <= len(rows) <= 7:
+        r.fail("kv_int", "must be a list of 1 to 7 steps")
+    speeds, a, b = [], [], []
+    for k, row in enumerate(rows):
+        c = _Reader(source, row, f"lambda.kv_int[{k}]", ("from_kmh", "a", "b") if passenger else ("from_kmh", "a"))
+        speeds.append(c.bounded("from_kmh", 0, MAX_SPEED_KMH))
+        a.append(c.bounded("a", 0, 1, low_open=True))
+        b.append(c.bounded("b", 0, 1, low_open=True) if passenger else a[-1])
+    if speeds[0] != 0 or any(x >= y for x, y in itertools.pairwise(speeds)):
+        r.fail("kv_int", "must start at from_kmh = 0 with increasing from_kmh")
+    return StepFunction(tuple(speeds), tuple(a)), StepFunction(tuple(speeds), tuple(b))
+
+
+def _lambda(source: str, table, brake_position: str) -> LambdaBrakes:
     r = _Reader(source, table, "lambda", FIELDS["lambda"])
     neutral = IntegratedFactors.neutral()
+    kv_a, kv_b = _kv_int(source, r, brake_position) if "kv_int" in r.table else (neutral.kv_int_a, neutral.kv_int_b)
+    p12 = r.bounded("a_nvp12_mps2", 0, MAX_DECELERATION_MPS2, neutral.a_nvp12_mps2)
+    p23 = r.bounded("a_nvp23_mps2", 0, MAX_DECELERATION_MPS2, neutral.a_nvp23_mps2)
+    if not p12 < p23:
+        r.fail("a_nvp23_mps2", f"must be above a_nvp12_mps2 = {float(p12):g}")
     return LambdaBrakes(
         brake_percentage=r.number("brake_percentage"),
         factors=IntegratedFactors(
-            kv_int_a=neutral.kv_int_a,
-            kv_int_b=neutral.kv_int_b,
-            a_nvp12_mps2=neutral.a_nvp12_mps2,
-            a_nvp23_mps2=neutral.a_nvp23_mps2,
+            kv_int_a=kv_a,
+            kv_int_b=kv_b,
+            a_nvp12_mps2=p12,
+            a_nvp23_mps2=p23,
             kr_int_lengths_m=neutral.kr_int_lengths_m,
             kr_int_values=(r.bounded("kr_int", 0, 1, 1, low_open=True),),
             kt_int=r.bounded("kt_int", 1, 2, 1),
@@ -179,7 +202,11 @@ def load_train(path: str | Path) -> RailTrain:
     rotating = top.optional_number("rotating_mass_percent")
     if rotating is not None and not 0 <= rotating <= 50:
         top.fail("rotating_mass_percent", "is outside [0, 50]")
-    brakes, combinations = _gamma(source, doc["gamma"]) if kinds == ["gamma"] else (_lambda(source, doc["lambda"]), ())
+    brakes, combinations = (
+        _gamma(source, doc["gamma"])
+        if kinds == ["gamma"]
+        else (_lambda(source, doc["lambda"], top.table.get("brake_position")), ())
+    )
     train = RailTrain(
         name=top.text("name"),
         length_m=top.bounded("length_m", 0, MAX_LENGTH_M, low_open=True),

@@ -198,3 +198,37 @@ def test_a_gamma_train_may_be_longer_than_the_conversion_model_allows(tmp_path):
     )
     with pytest.raises(TrainDataError, match="length_m = 2000 is above 1500 for freight_P"):
         load_train(path)
+
+
+def test_a_lambda_train_takes_the_national_kv_int(tmp_path):
+    """Kv_int per speed step, a and b for a passenger train interpolated by A_ebmax between the pivots."""
+    path = tmp_path / "kv.toml"
+    kv = "kv_int = [{ from_kmh = 0, a = 0.9, b = 0.8 }, { from_kmh = 100, a = 0.8, b = 0.7 }]\n"
+    path.write_text(LAMBDA.replace("[lambda]\n", "[lambda]\n" + kv), encoding="utf-8")
+    factors = load_train(path).brakes.factors
+    assert factors.kv_int_a.values == (Fraction(9, 10), Fraction(4, 5)) and factors.kv_int_b.speeds_kmh == (0, 100)
+    national = subset026_national()
+    neutral = curve_train_data(load_train(shipped_trains()["lambda_passenger_P_100"]), national, 0)
+    corrected = curve_train_data(load_train(path), national, 0)
+
+    def at(data, speed_mps):
+        steps = zip(data.emergency_speeds_mps, data.emergency_decelerations_mps2, strict=True)
+        return [a for s, a in steps if s <= speed_mps][-1]
+
+    assert all(at(corrected, v) < at(neutral, v) for v in corrected.emergency_speeds_mps)
+
+
+@pytest.mark.parametrize(
+    ("kv", "message"),
+    [
+        ("kv_int = [{ from_kmh = 0, a = 0.9 }]\n", "lambda.kv_int[0].b is missing"),
+        ("kv_int = [{ from_kmh = 0, a = 1.2, b = 0.8 }]\n", "lambda.kv_int[0].a = 1.2 is outside (0, 1]"),
+        ("kv_int = [{ from_kmh = 10, a = 0.9, b = 0.8 }]\n", "must start at from_kmh = 0"),
+        ("a_nvp12_mps2 = 1.4\n", "lambda.a_nvp23_mps2 = None must be above a_nvp12_mps2 = 1.4"),
+    ],
+)
+def test_bad_kv_int_is_named(tmp_path, kv, message):
+    path = tmp_path / "kv.toml"
+    path.write_text(LAMBDA.replace("[lambda]\n", "[lambda]\n" + kv), encoding="utf-8")
+    with pytest.raises(TrainDataError, match=re.escape(message)):
+        load_train(path)
