@@ -28,6 +28,7 @@ from atcs.model.train_data import NationalData, TrainData, TrainDataError
 
 __all__ = [
     "BRAKE_POSITIONS",
+    "DEPENDS_ON",
     "SPECIAL_BRAKES",
     "BrakeCombination",
     "ConvertedBrakes",

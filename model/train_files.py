@@ -173,8 +173,10 @@ def _lambda(source: str, table, brake_position: str) -> LambdaBrakes:
     kv_a, kv_b = _kv_int(source, r, brake_position) if "kv_int" in r.table else (neutral.kv_int_a, neutral.kv_int_b)
     p12 = r.bounded("a_nvp12_mps2", 0, MAX_DECELERATION_MPS2, neutral.a_nvp12_mps2)
     p23 = r.bounded("a_nvp23_mps2", 0, MAX_DECELERATION_MPS2, neutral.a_nvp23_mps2)
-    if not p12 < p23:
-        r.fail("a_nvp23_mps2", f"must be above a_nvp12_mps2 = {float(p12):g}")
+    if not p12 < p23:  # name the pivot the file gives (both given: the upper one)
+        if "a_nvp23_mps2" in r.table:
+            r.fail("a_nvp23_mps2", f"must be above a_nvp12_mps2 = {float(p12):g}")
+        r.fail("a_nvp12_mps2", f"must be below a_nvp23_mps2 = {float(p23):g}")
     return LambdaBrakes(
         brake_percentage=r.number("brake_percentage"),
         factors=IntegratedFactors(

@@ -224,7 +224,8 @@ def test_a_lambda_train_takes_the_national_kv_int(tmp_path):
         ("kv_int = [{ from_kmh = 0, a = 0.9 }]\n", "lambda.kv_int[0].b is missing"),
         ("kv_int = [{ from_kmh = 0, a = 1.2, b = 0.8 }]\n", "lambda.kv_int[0].a = 1.2 is outside (0, 1]"),
         ("kv_int = [{ from_kmh = 10, a = 0.9, b = 0.8 }]\n", "must start at from_kmh = 0"),
-        ("a_nvp12_mps2 = 1.4\n", "lambda.a_nvp23_mps2 = None must be above a_nvp12_mps2 = 1.4"),
+        ("a_nvp12_mps2 = 1.4\n", "lambda.a_nvp12_mps2 = 1.4 must be below a_nvp23_mps2 = 1.3"),
+        ("a_nvp23_mps2 = 0.5\n", "lambda.a_nvp23_mps2 = 0.5 must be above a_nvp12_mps2 = 1"),
     ],
 )
 def test_bad_kv_int_is_named(tmp_path, kv, message):
