@@ -77,8 +77,8 @@ class _PrintVersion(argparse.Action):
 
 def main(argv: list[str] | None = None) -> int:
     out, err = Console(), Console(stderr=True)
-    if not out.is_terminal:  # logs and pipes: do not truncate property names to 80 columns
-        out = Console(width=160)
+    if not out.is_terminal:  # logs and pipes: tables 160 columns wide, and a long line is never broken
+        out = Console(width=160, soft_wrap=True)
     args = None
     try:
         args = build_parser().parse_args(argv)

@@ -279,3 +279,21 @@ def test_console_script_is_installed():
     )
     assert done.returncode == 0, done.stderr
     assert "proved" in done.stdout
+
+
+def test_a_long_line_into_a_pipe_is_not_broken(monkeypatch, capsys):
+    """A log or pipe reader (CI, ``grep FAIL``) gets each message on one line, however long it is."""
+    import argparse
+
+    import atcs.proofs.cli as cli
+
+    line = "FAIL " + "x" * 300 + " expected false, got true"
+
+    def parser():
+        p = argparse.ArgumentParser()
+        p.set_defaults(run=lambda args, out, err: out.print(line) or 0)
+        return p
+
+    monkeypatch.setattr(cli, "build_parser", parser)
+    assert main([]) == 0
+    assert capsys.readouterr().out == line + "\n"
