@@ -12,6 +12,7 @@ from atcs.model.curves import (
     CONVERTED_CURVES,
     CURVES,
     GRADIENT_ACCELERATION,
+    GUIDANCE_CURVES,
     STEPPED_CURVES,
 )
 from atcs.model.deceleration import DECELERATION
@@ -53,6 +54,7 @@ NODES: dict[str, Node] = {
         GRADIENT_ACCELERATION,
         STEPPED_CURVES,
         CONVERTED_CURVES,
+        GUIDANCE_CURVES,
         MOST_RESTRICTIVE,
         EXCEEDANCES,
     )

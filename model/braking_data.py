@@ -23,6 +23,7 @@ import math
 from dataclasses import dataclass
 from fractions import Fraction
 
+from atcs.model.curves import GuidanceData
 from atcs.model.profile import KMH_PER_MPS
 from atcs.model.train_data import NationalData, TrainData, TrainDataError
 
@@ -35,11 +36,13 @@ __all__ = [
     "GammaBrakes",
     "IntegratedFactors",
     "LambdaBrakes",
+    "NormalServiceBrake",
     "RailTrain",
     "StepFunction",
     "conversion_model",
     "curve_national_data",
     "curve_train_data",
+    "guidance_data",
     "t_indication_s",
     "t_traction_s",
     "with_special_brakes",
@@ -147,6 +150,20 @@ class LambdaBrakes:
 
 
 @dataclass(frozen=True)
+class NormalServiceBrake:
+    """The normal service brake of the guidance curve, as train data (§3.13.2.2.3.1.9-11, §3.13.2.2.9.2): up to two
+    sets of three A_brake_normal_service(V) models, one for the brake position freight in G (``"G"``), one for
+    passenger or freight in P (``"P"``); in a set, model 0, 1 or 2 by A_brake_service(V=0) against the pivots
+    A_SB01 < A_SB12; the gradient corrections Kn+(V) (uphill) and Kn-(V) (downhill), m/s^2."""
+
+    sets: dict[str, tuple[StepFunction, StepFunction, StepFunction]]
+    a_sb01_mps2: Fraction
+    a_sb12_mps2: Fraction
+    kn_plus_mps2: StepFunction
+    kn_minus_mps2: StepFunction
+
+
+@dataclass(frozen=True)
 class RailTrain:
     """A train as Subset-026 §3.13.2.2 describes it, for the braking curves."""
 
@@ -170,6 +187,8 @@ class RailTrain:
     brake_combinations: tuple[BrakeCombination, ...] = ()
     """A Gamma train's models for other combinations of active special brakes; ``brakes`` is the one with none
     active (:func:`with_special_brakes` selects one)."""
+    normal_service: NormalServiceBrake | None = None
+    """The normal service brake of the guidance curve, or None when the train data gives none (no GUI)."""
 
     def __post_init__(self):
         if self.brake_position not in BRAKE_POSITIONS:
@@ -359,6 +378,38 @@ def _brakes(train: RailTrain, m_nvavadh: Fraction, target_speed_kmh) -> tuple[St
     return safe, t_be, t_bs
 
 
+def _service_mps2(train: RailTrain) -> StepFunction:
+    """A_brake_service(V): the Gamma train's, or the conversion model's for a Lambda train."""
+    if isinstance(train.brakes, GammaBrakes):
+        return train.brakes.service_mps2
+    b = train.brakes
+    return conversion_model(b.brake_percentage, train.brake_position, train.length_m, train.max_speed_kmh).service_mps2
+
+
+def guidance_data(train: RailTrain) -> GuidanceData | None:
+    """The normal service brake of ``train``'s guidance curve in SI on one set of speed steps (the union of the
+    model's, Kn+'s and Kn-'s), or None without one. The set is the brake position's; in it the model is 0 when
+    ``A_brake_service(V=0) <= A_SB01``, 1 up to A_SB12, 2 above (§3.13.2.2.3.1.10; the active special brakes are
+    those whose models ``train`` carries, :func:`with_special_brakes`)."""
+    normal = train.normal_service
+    if normal is None:
+        return None
+    group = "G" if train.brake_position == "freight_G" else "P"
+    if group not in normal.sets:
+        raise TrainDataError(
+            f"{train.name}: normal_service gives no models for the brake position {train.brake_position}"
+        )
+    a0 = _service_mps2(train).at(0)
+    model = normal.sets[group][0 if a0 <= normal.a_sb01_mps2 else 1 if a0 <= normal.a_sb12_mps2 else 2]
+    steps = sorted(set(model.speeds_kmh) | set(normal.kn_plus_mps2.speeds_kmh) | set(normal.kn_minus_mps2.speeds_kmh))
+    return GuidanceData(
+        normal_service_speeds_mps=tuple(v / KMH_PER_MPS for v in steps),
+        normal_service_decelerations_mps2=tuple(model.at(v) for v in steps),
+        kn_plus_mps2=tuple(normal.kn_plus_mps2.at(v) for v in steps),
+        kn_minus_mps2=tuple(normal.kn_minus_mps2.at(v) for v in steps),
+    )
+
+
 def t_traction_s(train: RailTrain, national: NationalData, t_bs2_s: Fraction) -> Fraction:
     """§3.13.9.3.2: ``max(T_traction_cut_off - (T_warning + T_bs2), 0)`` with a traction cut-off command,
     ``T_traction_cut_off`` without."""
@@ -377,11 +428,7 @@ def curve_train_data(train: RailTrain, national: NationalData, target_speed_kmh)
     ``A_brake_safe`` as the emergency steps (module docstring), T_be, and T_bs2 as ``t_bs_s`` (0 without a
     service-brake command, §3.13.9.3.3)."""
     safe, t_be, t_bs = _brakes(train, national.m_nvavadh, Fraction(target_speed_kmh))
-    service = train.brakes.service_mps2 if isinstance(train.brakes, GammaBrakes) else None
-    if service is None:
-        service = conversion_model(
-            train.brakes.brake_percentage, train.brake_position, train.length_m, train.max_speed_kmh
-        ).service_mps2
+    service = _service_mps2(train)
     rotating = train.rotating_mass_percent
     t_bs2 = t_bs if train.service_brake_command else Fraction(0)
     return TrainData(

@@ -20,7 +20,10 @@ follow from the EBD:
 The end of authority at standstill also has an SBD, braking at ``A_expected = A_brake_service(V) + A_gradient``
 to standstill there (Subset-026 §3.13.8.4, :func:`sbd_location_m`), and ``d_SBI1 = d_SBD(v) - v*T_bs``
 (:func:`sbi1_location_m`), which Subset-026 compares with the estimated front. Both are computed and proved
-(CRV-11) but not yet supervised: the SBI here is the EBD's (SBI2).
+(CRV-11) but not yet supervised: the SBI here is the EBD's (SBI2). So is its guidance curve (GUI, §3.13.8.5),
+braking at ``A_normal_service = A_brake_normal_service(V) + A_gradient - Kn+-(V) * grad / 1000`` to standstill there
+(:func:`gui_location_m`, CRV-12), which only moves the permitted speed location when the national value
+Q_NVGUIPERM enables it (:func:`guided_permitted_location_m`).
 
 A curve that never constrains speed ``v`` (the target is at or above it) is at
 :data:`FAR_M`, ahead of any line.
@@ -92,21 +95,28 @@ def gradient_acceleration_mps2(o: Ops, t: TrainData, gradient_permille):
     return gradient_deceleration_mps2(o, gradient_permille, mass)
 
 
-def check_braking_capability(t: TrainData, n: NationalData, gradient_c: Profile) -> None:
-    """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe`` and ``A_expected`` are positive
-    (above :data:`MIN_SPAN`) in every cell of the EBD's and the SBD's walks: the train can stop on every gradient
-    (concrete data)."""
-    for field, name, brake in (
+def check_braking_capability(
+    t: TrainData, n: NationalData, gradient_c: Profile, guidance: GuidanceData | None = None
+) -> None:
+    """Raise :class:`~atcs.model.train_data.TrainDataError` unless ``A_safe``, ``A_expected`` and (with
+    ``guidance``) ``A_normal_service`` are positive (above :data:`MIN_SPAN`) in every cell of the EBD's, the SBD's
+    and the GUI's walks: the train can stop on every gradient (concrete data)."""
+    brakes = [
         ("emergency_decelerations_mps2", "A_safe", safe_brake(EXACT, t, n)),
         ("service_decelerations_mps2", "A_expected", expected_brake(EXACT, t)),
-    ):
+    ]
+    if guidance is not None:
+        brakes.append(("normal_service", "A_normal_service", normal_service_brake(EXACT, guidance)))
+    for field, name, brake in brakes:
         for j, gradient in enumerate(gradient_c.values):
             for step, a_brake in enumerate(brake.decelerations_mps2):
                 a = brake.factor * a_brake + gradient_acceleration_mps2(EXACT, t, gradient)
+                if brake.kn_plus_mps2 is not None:
+                    a = a - gradient_correction_mps2(EXACT, brake, step, gradient)
                 if not a > EXACT.const(MIN_SPAN):
                     raise TrainDataError(
-                        f"train data: {field}[{step}] = {a_brake!r} gives {name} = {float(a):.3f} m/s^2 on "
-                        f"gradient_permille[{j}] = {gradient!r}: the train cannot stop there"
+                        f"train data: {field}[{step}] = {float(a_brake):g} gives {name} = {float(a):.3f} m/s^2 on "
+                        f"gradient_permille[{j}] = {float(gradient):g}: the train cannot stop there"
                     )
 
 
@@ -118,6 +128,17 @@ class BrakeModel(Generic[N]):
     speeds_mps: tuple[N, ...]
     decelerations_mps2: tuple[N, ...]
     factor: N
+    kn_plus_mps2: tuple[N, ...] | None = None
+    """The normal service brake's gradient correction Kn+(V) on the same speed steps (uphill), or None."""
+    kn_minus_mps2: tuple[N, ...] | None = None
+    """Kn-(V) (downhill), given with Kn+."""
+
+
+def gradient_correction_mps2(o: Ops, brake: BrakeModel, step: int, gradient_permille):
+    """``Kn+-(V) * grad / 1000`` on speed step ``step``: Kn+ on an uphill gradient, Kn- on a downhill one
+    (Subset-026 §3.13.6.4.3, §3.13.2.2.9.2.4-5); subtracted from ``A_brake_normal_service + A_gradient``."""
+    kn = o.ite(gradient_permille >= o.const(0), brake.kn_plus_mps2[step], brake.kn_minus_mps2[step])
+    return kn * gradient_permille / o.const(1000)
 
 
 def safe_brake(o: Ops, t: TrainData, n: NationalData) -> BrakeModel:
@@ -149,6 +170,8 @@ def braking_walk(
         a_gradient = gradient_acceleration_mps2(o, t, gradient_c.values[j])
         for step, a_brake in enumerate(decels):
             a_safe = k * a_brake + a_gradient
+            if brake.kn_plus_mps2 is not None:
+                a_safe = a_safe - gradient_correction_mps2(o, brake, step, gradient_c.values[j])
             top2 = stop_speed2 if step + 1 == len(decels) else o.min(speeds[step + 1] * speeds[step + 1], stop_speed2)
             needed_m = (top2 - speed2) / (o.const(2) * o.max(a_safe, o.const(MIN_SPAN)))
             moved_m = o.max(o.const(0), o.min(needed_m, position - low))
@@ -222,6 +245,53 @@ def sbi1_location_m(o: Ops, t: TrainData, gradient_c: Profile, eoa_m, speed_mps)
     """The end of authority's SBI1 at ``speed_mps``: ``d_SBD(v) - v * T_bs1`` (Subset-026 §3.13.9.3.3.1; T_bs1 is
     T_bs2, which the train data's ``t_bs_s`` gives, §3.13.9.3.3.3 to 5)."""
     return sbd_location_m(o, t, gradient_c, eoa_m, speed_mps) - speed_mps * t.t_bs_s
+
+
+@dataclass(frozen=True)
+class GuidanceData(Generic[N]):
+    """The normal service brake for the guidance curve (Subset-026 §3.13.6.4): the model
+    A_brake_normal_service(V) the train's brake position and A_brake_service(V=0) select (§3.13.2.2.3.1.9-10), and
+    the gradient corrections Kn+(V), Kn-(V) (§3.13.2.2.9.2), all on the same speed steps."""
+
+    normal_service_speeds_mps: tuple[N, ...]
+    normal_service_decelerations_mps2: tuple[N, ...]
+    kn_plus_mps2: tuple[N, ...]
+    kn_minus_mps2: tuple[N, ...]
+
+
+def normal_service_brake(o: Ops, g: GuidanceData) -> BrakeModel:
+    """The GUI's: ``A_normal_service = A_brake_normal_service(V) + A_gradient - Kn+-(V) * grad / 1000``, no worst
+    case conditions (§3.13.6.4.1, .3)."""
+    return BrakeModel(
+        g.normal_service_speeds_mps, g.normal_service_decelerations_mps2, o.const(1), g.kn_plus_mps2, g.kn_minus_mps2
+    )
+
+
+def gui_location_m(o: Ops, t: TrainData, g: GuidanceData, gradient_c: Profile, target_m, speed_mps):
+    """Where the guidance curve of an end of authority (or SvL) at ``target_m`` reaches ``speed_mps``: braking at
+    ``A_normal_service(V, d)`` to standstill there, its foot at the target (§3.13.8.5.2 a); FAR_M at standstill."""
+    position, _ = braking_walk(
+        o, t, normal_service_brake(o, g), gradient_c, target_m, o.const(0), o.const(-FAR_M), speed_mps * speed_mps
+    )
+    return o.ite(speed_mps <= o.const(0), o.const(FAR_M), position)
+
+
+def curve_speed2_at(o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, target_m, foot_speed2, x_m):
+    """The forward query: the squared speed at ``x_m`` of the braking curve of ``brake`` whose foot is
+    ``foot_speed2`` at ``target_m`` (the foot speed at and past the target)."""
+    _, speed2 = braking_walk(o, t, brake, gradient_c, target_m, foot_speed2, x_m, o.const(HUGE_SPEED2))
+    return speed2
+
+
+def guided_permitted_location_m(
+    o: Ops, t: TrainData, n: NationalData, g: GuidanceData, gradient_c: Profile, eoa_m, speed_mps
+):
+    """The end of authority's permitted speed location with the guidance curve enabled (Q_NVGUIPERM):
+    ``d_P(v) = min(d_SBI1(v) - v * T_driver, d_GUI(v))`` (§3.13.9.3.5.4)."""
+    return o.min(
+        sbi1_location_m(o, t, gradient_c, eoa_m, speed_mps) - speed_mps * n.t_driver_s,
+        gui_location_m(o, t, g, gradient_c, eoa_m, speed_mps),
+    )
 
 
 def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2):
@@ -354,6 +424,48 @@ CURVES = stateless_node(
 )
 """The braking curves of one target as a node for proofs: 2 compensated-gradient segments, the target
 and the query speed and acceleration symbolic; train and national data as each property fixes them."""
+
+
+@dataclass(frozen=True)
+class GuidanceCurveParams(CurveParams[N, B], GuidanceData[N]):
+    """:class:`CurveParams` with the normal service brake of the guidance curve."""
+
+
+@dataclass(frozen=True)
+class GuidanceCurveOutputs(Generic[N, B]):
+    gui_m: N
+    """Where the guidance curve of an end of authority at the target's location reaches the speed
+    (:func:`gui_location_m`)."""
+    guided_permitted_m: N
+    """That end of authority's permitted speed location with the guidance curve enabled
+    (:func:`guided_permitted_location_m`)."""
+
+
+def guidance_curves_step(o: Ops, p: GuidanceCurveParams, s: Stateless, i: CurveQuery):
+    gradient = curve_gradient(p)
+    return s, GuidanceCurveOutputs(
+        gui_m=gui_location_m(o, p, p, gradient, p.target_m, i.speed_mps),
+        guided_permitted_m=guided_permitted_location_m(o, p, p, p, gradient, p.target_m, i.speed_mps),
+    )
+
+
+GUIDANCE_CURVES = stateless_node(
+    name="guidance_curves",
+    params=GuidanceCurveParams,
+    inputs=CurveQuery,
+    outputs=GuidanceCurveOutputs,
+    step=guidance_curves_step,
+    seed="000 §2.4 (Subset-026 3.13.8.5)",
+    sizes={
+        **DESIGN_CASE_SIZES,
+        "normal_service_speeds_mps": 2,
+        "normal_service_decelerations_mps2": 2,
+        "kn_plus_mps2": 2,
+        "kn_minus_mps2": 2,
+    },
+)
+"""The guidance curve and the permitted speed it adjusts for an end of authority, as a node for proofs: the
+design case's gradients, a normal service brake of two speed steps with Kn+ and Kn- on them."""
 
 STEPPED_CURVES = dataclasses.replace(
     CURVES, name="curves_stepped", sizes={**CURVES.sizes, "emergency_speeds_mps": 3, "emergency_decelerations_mps2": 3}

@@ -18,6 +18,7 @@ from atcs.model.braking_data import (
     GammaBrakes,
     IntegratedFactors,
     LambdaBrakes,
+    NormalServiceBrake,
     RailTrain,
     StepFunction,
     conversion_model,
@@ -49,6 +50,7 @@ FIELDS = {
         "interfaces",
         "gamma",
         "lambda",
+        "normal_service",
     ),
     "interfaces": ("service_brake_command", "service_brake_feedback", "traction_cut_off_command"),
     "gamma": (
@@ -69,6 +71,9 @@ FIELDS = {
         "kdry_rst",
         "kwet_rst",
     ),
+    "normal_service": ("a_sb01_mps2", "a_sb12_mps2", "kn_plus", "kn_minus", "p", "g"),
+    "normal_service.p": ("model_0", "model_1", "model_2"),
+    "normal_service.g": ("model_0", "model_1", "model_2"),
     "lambda": ("brake_percentage", "kv_int", "a_nvp12_mps2", "a_nvp23_mps2", "kr_int", "kt_int"),
 }
 """The fields of each table of a train data file (docs/train-data.md documents each)."""
@@ -91,16 +96,19 @@ class _Reader(TableReader):
         return value
 
 
-def _steps(source: str, reader: _Reader, key: str, value_key: str, high) -> StepFunction:
-    """``[{from_kmh = 0, <value_key> = ...}, ...]``: a step function of speed, up to seven steps (§3.13.2.2.3.1.2)."""
+def _steps(
+    source: str, reader: _Reader, key: str, value_key: str, high, *, max_steps: int = 7, zero: bool = False
+) -> StepFunction:
+    """``[{from_kmh = 0, <value_key> = ...}, ...]``: a step function of speed, up to seven steps (§3.13.2.2.3.1.2;
+    ``max_steps`` for others), values in (0, high] (``zero``: [0, high])."""
     rows = reader.rows(key)
-    if not 1 <= len(rows) <= 7:
-        reader.fail(key, "must be a list of 1 to 7 steps")
+    if not 1 <= len(rows) <= max_steps:
+        reader.fail(key, f"must be a list of 1 to {max_steps} steps")
     speeds, values = [], []
     for k, row in enumerate(rows):
         r = _Reader(source, row, f"{reader.name(key)}[{k}]", ("from_kmh", value_key))
         speeds.append(r.bounded("from_kmh", 0, MAX_SPEED_KMH))
-        values.append(r.bounded(value_key, 0, high, low_open=True))
+        values.append(r.bounded(value_key, 0, high, low_open=not zero))
     if speeds[0] != 0 or any(a >= b for a, b in itertools.pairwise(speeds)):
         reader.fail(key, "must start at from_kmh = 0 with increasing from_kmh")
     return StepFunction(tuple(speeds), tuple(values))
@@ -146,6 +154,37 @@ def _gamma_brakes(source: str, r: _Reader) -> GammaBrakes:
         t_brake_emergency_s=r.bounded("t_brake_emergency_s", 0, MAX_TIME_S, low_open=True),
         service_mps2=_steps(source, r, "service", "mps2", MAX_DECELERATION_MPS2),
         t_brake_service_s=r.bounded("t_brake_service_s", 0, MAX_TIME_S, low_open=True),
+    )
+
+
+MAX_KN_MPS2 = 10
+"""Kn+(V), Kn-(V) range from 0 to 10 m/s^2 (Subset-026 §3.13.2.2.9.2.1), up to five steps (§3.13.2.2.9.2.2)."""
+
+
+def _normal_service(source: str, table, brake_position: str) -> NormalServiceBrake:
+    """``[normal_service]``: the pivots, Kn+ and Kn-, and ``[normal_service.p]`` / ``[normal_service.g]`` with the
+    set's three models (at least the set of the train's brake position)."""
+    r = _Reader(source, table, "normal_service", FIELDS["normal_service"])
+    a_sb01 = r.bounded("a_sb01_mps2", 0, MAX_DECELERATION_MPS2)
+    a_sb12 = r.bounded("a_sb12_mps2", 0, MAX_DECELERATION_MPS2)
+    if not a_sb01 < a_sb12:
+        r.fail("a_sb12_mps2", f"must be above a_sb01_mps2 = {float(a_sb01):g}")
+    sets = {}
+    for group in ("p", "g"):
+        if group in r.table:
+            c = _Reader(source, r.table[group], f"normal_service.{group}", FIELDS[f"normal_service.{group}"])
+            sets[group.upper()] = tuple(
+                _steps(source, c, f"model_{m}", "mps2", MAX_DECELERATION_MPS2) for m in range(3)
+            )
+    needed = "g" if brake_position == "freight_G" else "p"
+    if needed.upper() not in sets:
+        r.fail(needed, f"is missing: brake_position = {brake_position!r} uses the models of [normal_service.{needed}]")
+    return NormalServiceBrake(
+        sets=sets,
+        a_sb01_mps2=a_sb01,
+        a_sb12_mps2=a_sb12,
+        kn_plus_mps2=_steps(source, r, "kn_plus", "mps2", MAX_KN_MPS2, max_steps=5, zero=True),
+        kn_minus_mps2=_steps(source, r, "kn_minus", "mps2", MAX_KN_MPS2, max_steps=5, zero=True),
     )
 
 
@@ -223,6 +262,9 @@ def load_train(path: str | Path) -> RailTrain:
         max_acceleration_mps2=top.bounded("max_acceleration_mps2", 0, MAX_ACCELERATION_MPS2, 0),
         v_ura_mps=top.bounded("v_ura_kmh", 0, 20, 0) / KMH_PER_MPS,
         brake_combinations=combinations,
+        normal_service=None
+        if "normal_service" not in doc
+        else _normal_service(source, doc["normal_service"], top.table.get("brake_position")),
     )
     if isinstance(train.brakes, LambdaBrakes):
         try:

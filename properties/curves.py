@@ -22,10 +22,12 @@ from atcs.model.curves import (
     CONVERTED_CURVES,
     CURVES,
     FAR_M,
+    GUIDANCE_CURVES,
     STEPPED_CURVES,
     curve_gradient,
     curve_target,
     ebd_location_m,
+    gui_location_m,
     sbd_location_m,
 )
 from atcs.model.node import as_dict
@@ -55,6 +57,19 @@ STEPPED_EMERGENCY_BRAKE = {
 """A design case of the speed-step braking model (seed 000 §2.3 ``Dec(v)``, Subset-026 3.13.2.2.4): the seed 000
 train's emergency brake at 4.0 km/h/s up to 50 km/h, 3.5 km/h/s up to 90 km/h and 3.0 km/h/s above (the presets
 have one step; three steps give the walk a middle step, with a step on either side)."""
+
+DESIGN_NORMAL_SERVICE = {
+    "normal_service_speeds_mps": (Fraction(0), Fraction(60) / KMH_PER_MPS),
+    "normal_service_decelerations_mps2": (Fraction("0.6"), Fraction("0.5")),
+    "kn_plus_mps2": (Fraction(3), Fraction(2)),
+    "kn_minus_mps2": (Fraction(5), Fraction(4)),
+}
+"""A design case of the normal service brake (Subset-026 §3.13.2.2.3.1.9, §3.13.2.2.9.2): A_brake_normal_service
+0.6 m/s^2 up to 60 km/h and 0.5 above, Kn+ 3 then 2 m/s^2, Kn- 5 then 4 (two steps each, distinct, so a swapped
+or dropped correction shows on either gradient)."""
+
+GUIDANCE_PRESETS = ("seed000", "gamma")
+"""The presets whose guidance curve is proved (with :data:`DESIGN_NORMAL_SERVICE`; the node has one-step brakes)."""
 
 _DESIGN_TRACK = {"gradient_permille": tuple(Fraction(g) for g in DESIGN_GRADIENTS_PERMILLE)}
 PRESETS = {
@@ -163,21 +178,24 @@ def seed_gradient_acceleration_mps2(o, p, g):
     return o.const("9.81") * g / (o.const(1000) + o.const(10) * mass)
 
 
-def _energy_by_speed_step(o, p, v, foot, location, speeds, decelerations, factor):
+def _energy_by_speed_step(o, p, v, foot, location, speeds, decelerations, factor, kn=None):
     """Speed step by speed step of a brake model (``[V_b, V_b+1)``, the last one unbounded): between the curve's
     locations at the step's two ends (clamped to [foot speed, v]), ``hi^2 - lo^2 = 2 * sum over the gradient
     segments of (factor * A_brake(b) + A_gradient) times the length of the segment between them``, A_gradient
-    stated from the seed. The first segment extends behind the profile's start, the last beyond the line's end."""
+    stated from the seed. The first segment extends behind the profile's start, the last beyond the line's end.
+    With ``kn = (Kn+, Kn-)`` (the normal service brake), ``Kn+(b) * grad / 1000`` is taken from each uphill
+    segment's deceleration and ``Kn-(b) * grad / 1000`` from each downhill one's (Subset-026 §3.13.6.4.3)."""
     starts = p.gradient_starts_m
 
-    def work(a_brake, behind, ahead):
+    def work(b, a_brake, behind, ahead):
         total = o.const(0)
         for j, g in enumerate(p.gradient_permille):
             low = behind if j == 0 else o.max(behind, starts[j])
             high = ahead if j + 1 == len(starts) else o.min(ahead, starts[j + 1])
-            total = total + (factor * a_brake + seed_gradient_acceleration_mps2(o, p, g)) * o.max(
-                o.const(0), high - low
-            )
+            a = factor * a_brake + seed_gradient_acceleration_mps2(o, p, g)
+            if kn is not None:
+                a = a - o.ite(g > o.const(0), kn[0][b], kn[1][b]) * g / o.const(1000)
+            total = total + a * o.max(o.const(0), high - low)
         return total
 
     energy = []
@@ -188,7 +206,7 @@ def _energy_by_speed_step(o, p, v, foot, location, speeds, decelerations, factor
             return speed if b + 1 == len(speeds) else o.min(speed, speeds[b + 1])
 
         lo, hi = clamp(foot), clamp(v)
-        energy.append(o.eq(hi * hi - lo * lo, o.const(2) * work(a_brake, location(hi), location(lo))))
+        energy.append(o.eq(hi * hi - lo * lo, o.const(2) * work(b, a_brake, location(hi), location(lo))))
     return energy
 
 
@@ -227,6 +245,36 @@ def _sbd_is_service_braking_curve(o, p, s, i, out, nxt):
         o.implies(v <= zero, o.eq(out.sbd_m, o.const(FAR_M))),
         o.implies(o.and_(zero < v, v <= top), o.and_(o.eq(out.sbd_m, location(v)), *energy)),
         o.eq(out.sbi1_m, out.sbd_m - v * p.t_bs_s),
+    )
+
+
+def _gui_is_normal_service_curve(o, p, s, i, out, nxt):
+    """The guidance curve of an end of authority at the target is the braking curve at ``A_normal_service =
+    A_brake_normal_service + A_gradient - Kn+-(V) * grad / 1000`` to standstill at the target
+    (:func:`_energy_by_speed_step`); the permitted speed location is the nearer of ``d_SBI1(v) - v * T_driver`` and
+    the guidance curve's."""
+    v, zero, target = i.speed_mps, o.const(0), p.target_m
+
+    def location(speed):
+        return o.ite(speed <= zero, target, gui_location_m(o, p, p, curve_gradient(p), target, speed))
+
+    energy = _energy_by_speed_step(
+        o,
+        p,
+        v,
+        zero,
+        location,
+        p.normal_service_speeds_mps,
+        p.normal_service_decelerations_mps2,
+        o.const(1),
+        kn=(p.kn_plus_mps2, p.kn_minus_mps2),
+    )
+    top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
+    sbi1 = sbd_location_m(o, p, curve_gradient(p), target, v) - v * p.t_bs_s
+    return o.and_(
+        o.implies(v <= zero, o.eq(out.gui_m, o.const(FAR_M))),
+        o.implies(o.and_(zero < v, v <= top), o.and_(o.eq(out.gui_m, location(v)), *energy)),
+        o.eq(out.guided_permitted_m, o.min(sbi1 - v * p.t_driver_s, out.gui_m)),
     )
 
 
@@ -309,6 +357,30 @@ def _properties(preset: str):
             holds=_sbd_is_service_braking_curve,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
+        ),
+        *(
+            ()
+            if preset not in GUIDANCE_PRESETS
+            else (
+                Property(
+                    name=f"curves.gui_is_normal_service_curve_{preset}",
+                    requirement="CRV-12",
+                    seed="000 §2.4.1 (Subset-026 3.13.6.4, 3.13.8.5, 3.13.9.3.5.4)",
+                    text=(
+                        f"With the {preset} data, the design gradients and a design normal service brake: the "
+                        "guidance curve of an end of authority reaches a speed v above 0 (up to the highest line "
+                        "speed) where braking at A_normal_service = A_brake_normal_service + A_gradient - "
+                        "Kn+(V) * grad / 1000 uphill (Kn-(V) downhill), stated from Subset-026, takes v to "
+                        "standstill exactly at the EoA, speed step by speed step; at standstill it never constrains "
+                        "(FAR_M); with the guidance curve enabled the permitted speed location is the nearer of "
+                        "d_SBI1(v) - v * T_driver and d_GUI(v)."
+                    ),
+                    node=GUIDANCE_CURVES,
+                    holds=_gui_is_normal_service_curve,
+                    assumptions=(TRACK_AND_TARGET, QUERY),
+                    fixed_params={**fixed, **DESIGN_NORMAL_SERVICE},
+                ),
+            )
         ),
         Property(
             name=f"curves.ebi_from_brake_build_up_{preset}",

@@ -84,14 +84,17 @@ def run(args, out, err) -> int:
 
     name, train, national = _train(args)
     q = _query(args, train)
+    guidance = None
     if name not in train_data.PRESETS:  # the train's data for the EoA's target speed (T_be, T_bs: cm0 or cmt)
         rail = braking_data_of(args)
         speed_kmh = q["eoa_speed"] * KMH_PER_MPS
         train = braking_data.curve_train_data(rail, national, speed_kmh)
         national = braking_data.curve_national_data(rail, national, speed_kmh)
+        with reraised("curves: --train ", train_data.TrainDataError):
+            guidance = braking_data.guidance_data(rail)
     with reraised("curves: ", train_data.TrainDataError):
         train_data.validate(train, national)
-        check_braking_capability(train, national, q["gradient"])
+        check_braking_capability(train, national, q["gradient"], guidance)
 
     horizon = Horizon(q["mrsp"], q["gradient"], q["eoa_m"], q["eoa_speed"])
     sampled = sampled_curves(
@@ -111,6 +114,8 @@ def run(args, out, err) -> int:
     out.print("wrote " + ", ".join(str(p) for p in paths))
     if q["speed"] is not None:
         _print_locations(out, train, national, horizon, q)
+        if q["eoa_speed"] == 0:
+            _print_service_curves(out, train, national, guidance, q)
     return EXIT_OK
 
 
@@ -200,4 +205,27 @@ def _print_locations(out, train, national, horizon, q: dict) -> None:
             f"{float(target.location_m):g} @ {float(target.speed_mps * KMH_PER_MPS):g}",
             *("-" if c > Fraction(10**6) else f"{float(c):.2f}" for c in cells),
         )
+    out.print(table)
+
+
+def _print_service_curves(out, train, national, guidance, q: dict) -> None:
+    """The end of authority's SBD and SBI1 at ``--speed``, and with a normal service brake in the train data its
+    guidance curve and the permitted speed location the guidance curve adjusts (Subset-026 §3.13.9.3.5.4)."""
+    from atcs.model.curves import gui_location_m, guided_permitted_location_m, sbd_location_m, sbi1_location_m
+    from atcs.model.ops.exact import EXACT
+    from atcs.model.profile import KMH_PER_MPS
+
+    o, g, eoa, v = EXACT, q["gradient"], q["eoa_m"], q["speed"]
+    table = Table(
+        title=f"the end of authority's service-brake curves at {float(v * KMH_PER_MPS):g} km/h (m; '-' no data)"
+    )
+    cells = {"SBD": sbd_location_m(o, train, g, eoa, v), "SBI1": sbi1_location_m(o, train, g, eoa, v)}
+    if guidance is not None:
+        cells["GUI"] = gui_location_m(o, train, guidance, g, eoa, v)
+        cells["permitted with GUI"] = guided_permitted_location_m(o, train, national, guidance, g, eoa, v)
+    else:
+        cells["GUI"] = cells["permitted with GUI"] = None
+    for name in cells:
+        table.add_column(name, justify="right")
+    table.add_row(*("-" if c is None else f"{float(c):.2f}" for c in cells.values()))
     out.print(table)

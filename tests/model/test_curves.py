@@ -73,7 +73,7 @@ class TestTrainData:
     def test_a_train_that_cannot_stop_on_the_gradient_is_refused(self):
         weak = dataclasses.replace(TRAIN, emergency_decelerations_mps2=(Fraction(1, 5),))
         steep = gradient_profile("gradient", [0, 100], [0, -40], 500)
-        with pytest.raises(TrainDataError, match=r"gradient_permille\[1\] = Fraction\(-40, 1\): the train cannot stop"):
+        with pytest.raises(TrainDataError, match=r"gradient_permille\[1\] = -40: the train cannot stop"):
             check_braking_capability(weak, NATIONAL, steep)
         check_braking_capability(TRAIN, NATIONAL, steep)
 
@@ -123,6 +123,52 @@ def test_behind_the_line_the_ebd_uses_the_gradient_in_force_at_its_start():
     assert ebd_speed2_at(EXACT, TRAIN, NATIONAL, compensated, target, expected) == v * v
 
 
+GUIDANCE = curves.GuidanceData(
+    normal_service_speeds_mps=(Fraction(0), Fraction(20)),
+    normal_service_decelerations_mps2=(Fraction(3, 5), Fraction(1, 2)),
+    kn_plus_mps2=(Fraction(3), Fraction(2)),
+    kn_minus_mps2=(Fraction(5), Fraction(4)),
+)
+
+
+@given(speed=speeds, target_m=st.integers(0, 5000))
+def test_gui_on_level_track_is_the_closed_form(speed, target_m):
+    """Level track: no Kn correction; 0.6 m/s^2 up to 20 m/s, 0.5 above."""
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(5000))
+    low = min(speed, 20)
+    braking_m = low * low / (2 * Fraction(3, 5)) + (speed * speed - low * low) / (2 * Fraction(1, 2))
+    assert curves.gui_location_m(EXACT, TRAIN, GUIDANCE, level, Fraction(target_m), speed) == target_m - braking_m
+
+
+@pytest.mark.parametrize(("gradient", "kn"), [(20, Fraction(3)), (-20, Fraction(5)), (Fraction(1, 20), Fraction(3))])
+def test_gui_takes_kn_plus_uphill_and_kn_minus_downhill(gradient, kn):
+    """Below 20 m/s, A_normal_service = 0.6 + A_gradient - Kn * grad / 1000 (Subset-026 §3.13.6.4.3)."""
+    slope = Profile((Fraction(0),), (Fraction(gradient),), Fraction(5000))
+    a = Fraction(3, 5) + curves.gradient_acceleration_mps2(EXACT, TRAIN, Fraction(gradient)) - kn * gradient / 1000
+    v = Fraction(10)
+    assert curves.gui_location_m(EXACT, TRAIN, GUIDANCE, slope, Fraction(3000), v) == 3000 - v * v / (2 * a)
+
+
+@given(speed=speeds, cut=st.integers(1, 4999), grads=st.tuples(st.integers(-40, 40), st.integers(-40, 40)))
+def test_gui_speed_and_location_are_inverse(speed, cut, grads):
+    """The forward query (the speed at a location) undoes the inverse one."""
+    gradient = Profile((Fraction(0), Fraction(cut)), tuple(map(Fraction, grads)), Fraction(5000))
+    location = curves.gui_location_m(EXACT, TRAIN, GUIDANCE, gradient, Fraction(5000), speed)
+    brake = curves.normal_service_brake(EXACT, GUIDANCE)
+    assert curves.curve_speed2_at(EXACT, TRAIN, brake, gradient, Fraction(5000), 0, location) == speed * speed
+
+
+def test_the_guidance_curve_moves_the_permitted_speed_only_when_nearer():
+    level = Profile((Fraction(0),), (Fraction(0),), Fraction(5000))
+    v, eoa = Fraction(25), Fraction(4000)
+    sbi1 = curves.sbi1_location_m(EXACT, TRAIN, level, eoa, v) - v * NATIONAL.t_driver_s
+    gui = curves.gui_location_m(EXACT, TRAIN, GUIDANCE, level, eoa, v)
+    assert gui < sbi1  # the normal service brake is gentler
+    assert curves.guided_permitted_location_m(EXACT, TRAIN, NATIONAL, GUIDANCE, level, eoa, v) == gui
+    strong = dataclasses.replace(GUIDANCE, normal_service_decelerations_mps2=(Fraction(9), Fraction(9)))
+    assert curves.guided_permitted_location_m(EXACT, TRAIN, NATIONAL, strong, level, eoa, v) == sbi1
+
+
 def test_the_sbd_never_constrains_at_standstill():
     level = Profile((Fraction(0),), (Fraction(0),), Fraction(3000))
     assert curves.sbd_location_m(EXACT, TRAIN, level, Fraction(2000), Fraction(0)) == curves.FAR_M
@@ -168,6 +214,26 @@ MUTANTS = {
         ),
         # SBI1 with the emergency brake's build-up time
         (curves.sbi1_location_m, "speed_mps * t.t_bs_s", "speed_mps * t.t_be_s"),
+    ],
+    "gui_is_normal_service_curve": [
+        # the gradient correction Kn left out of A_normal_service
+        (
+            curves.braking_walk,
+            "a_safe = a_safe - gradient_correction_mps2(o, brake, step, gradient_c.values[j])",
+            "a_safe = a_safe",
+        ),
+        # Kn+ and Kn- swapped (Kn- uphill)
+        (
+            curves.gradient_correction_mps2,
+            "brake.kn_plus_mps2[step], brake.kn_minus_mps2[step]",
+            "brake.kn_minus_mps2[step], brake.kn_plus_mps2[step]",
+        ),
+        # the permitted speed without the guidance curve
+        (
+            curves.guided_permitted_location_m,
+            "gui_location_m(o, t, g, gradient_c, eoa_m, speed_mps)",
+            "o.const(FAR_M)",
+        ),
     ],
     "ebi_from_brake_build_up": [
         # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows

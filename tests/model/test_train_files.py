@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from atcs.model.braking_data import curve_train_data, with_special_brakes
+from atcs.model.braking_data import curve_train_data, guidance_data, with_special_brakes
 from atcs.model.train_data import TrainDataError, subset026_national
 from atcs.model.train_files import FIELDS, load_train, shipped_trains
 from atcs.proofs.cli import main
@@ -23,16 +23,17 @@ def _documented() -> dict[str, set[str]]:
     """The keys of each table the reference documents (its tables' first column)."""
     tables, current = {}, None
     for line in REFERENCE.read_text(encoding="utf-8").splitlines():
-        heading = re.match(r"## (?:`\[\[?([\w.]+)\]?\]`|Top level)", line)
-        if heading:
-            current = heading.group(1) or ""
-            tables[current] = set()
-        elif current is not None and line.startswith("| `"):
+        if line.startswith("## "):  # `[gamma]`, `[[gamma.combination]]`, `[normal_service.p]` and `[...g]`
+            current = ("",) if line == "## Top level" else tuple(re.findall(r"`\[\[?([\w.]+)\]?\]`", line))
+            tables.update({name: set() for name in current})
+        elif current and line.startswith("| `"):
             key = line.split("|")[1].strip().strip("`")
             if key.startswith("["):  # a table row: `[interfaces]`, `[gamma]` or `[lambda]`, `[[combination]]`
-                tables[current] |= set(re.findall(r"\[(\w+)\]", key))
+                found = set(re.findall(r"\[(\w+)\]", key))
             else:  # one key, or several: `emergency`, `kdry_rst`, `kwet_rst`
-                tables[current] |= {k.strip().strip("`") for k in key.split(",")}
+                found = {k.strip().strip("`") for k in key.split(",")}
+            for name in current:
+                tables[name] |= found
     return tables
 
 
@@ -233,3 +234,107 @@ def test_bad_kv_int_is_named(tmp_path, kv, message):
     path.write_text(LAMBDA.replace("[lambda]\n", "[lambda]\n" + kv), encoding="utf-8")
     with pytest.raises(TrainDataError, match=re.escape(message)):
         load_train(path)
+
+
+# --- the normal service brake of the guidance curve ------------------------------------------------------------
+
+NORMAL_SERVICE = """
+[normal_service]
+a_sb01_mps2 = 0.5
+a_sb12_mps2 = 0.9
+kn_plus = [{ from_kmh = 0, mps2 = 3 }]
+kn_minus = [{ from_kmh = 0, mps2 = 5 }, { from_kmh = 100, mps2 = 4 }]
+
+[normal_service.p]
+model_0 = [{ from_kmh = 0, mps2 = 0.4 }]
+model_1 = [{ from_kmh = 0, mps2 = 0.6 }, { from_kmh = 60, mps2 = 0.5 }]
+model_2 = [{ from_kmh = 0, mps2 = 0.7 }]
+"""
+
+
+def _guided(tmp_path, service_mps2="1.0", extra=NORMAL_SERVICE, position="passenger_P") -> Path:
+    path = tmp_path / "guided.toml"
+    text = GAMMA.replace(
+        "service = [{ from_kmh = 0, mps2 = 1.0 }]", f"service = [{{ from_kmh = 0, mps2 = {service_mps2} }}]"
+    )
+    path.write_text(text.replace('"passenger_P"', f'"{position}"') + extra, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(("service_mps2", "model"), [("0.5", 0), ("0.51", 1), ("0.9", 1), ("1.0", 2)])
+def test_a_brake_service_at_standstill_selects_the_model(tmp_path, service_mps2, model):
+    """§3.13.2.2.3.1.10: model 0 up to A_SB01 (included), 1 up to A_SB12 (included), 2 above."""
+    guidance = guidance_data(load_train(_guided(tmp_path, service_mps2)))
+    first = {0: Fraction(2, 5), 1: Fraction(3, 5), 2: Fraction(7, 10)}[model]
+    assert guidance.normal_service_decelerations_mps2[0] == first
+
+
+def test_the_guidance_steps_are_the_union_of_the_models_and_the_kn_steps(tmp_path):
+    guidance = guidance_data(load_train(_guided(tmp_path, "0.8")))
+    assert guidance.normal_service_speeds_mps == (0, Fraction(60) / Fraction(36, 10), Fraction(100) / Fraction(36, 10))
+    assert guidance.normal_service_decelerations_mps2 == (Fraction(3, 5), Fraction(1, 2), Fraction(1, 2))
+    assert guidance.kn_plus_mps2 == (3, 3, 3) and guidance.kn_minus_mps2 == (5, 5, 4)
+
+
+def test_a_train_without_a_normal_service_brake_has_no_guidance_curve():
+    assert guidance_data(load_train(shipped_trains()["gamma_passenger_P"])) is None
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("a_sb12_mps2 = 0.9", "a_sb12_mps2 = 0.5", "normal_service.a_sb12_mps2 = 0.5 must be above a_sb01_mps2 = 0.5"),
+        ("kn_plus = [{ from_kmh = 0, mps2 = 3 }]", "kn_plus = [{ from_kmh = 0, mps2 = 11 }]", "kn_plus[0].mps2 = 11"),
+        ("model_2 = [{ from_kmh = 0, mps2 = 0.7 }]", "", "normal_service.p.model_2 = None must be a list of 1 to 7"),
+        ("[normal_service.p]", "[normal_service.g]", "normal_service.p = None is missing: brake_position"),
+        ("a_sb01_mps2 = 0.5", "a_sb01 = 0.5", "normal_service.a_sb01: unknown field"),
+        (
+            "kn_plus = [{ from_kmh = 0, mps2 = 3 }]",
+            "kn_plus = [" + ", ".join(f"{{ from_kmh = {v}, mps2 = 1 }}" for v in range(0, 60, 10)) + "]",
+            "must be a list of 1 to 5 steps",
+        ),
+    ],
+)
+def test_a_bad_normal_service_brake_is_named(tmp_path, old, new, message):
+    with pytest.raises(TrainDataError, match=re.escape(message)):
+        load_train(_guided(tmp_path, extra=NORMAL_SERVICE.replace(old, new)))
+
+
+def test_kn_may_be_zero(tmp_path):
+    extra = NORMAL_SERVICE.replace("mps2 = 3 }]", "mps2 = 0 }]")
+    assert guidance_data(load_train(_guided(tmp_path, extra=extra))).kn_plus_mps2[0] == 0
+
+
+def test_a_freight_train_in_g_takes_the_g_set(tmp_path):
+    extra = (
+        NORMAL_SERVICE
+        + "\n[normal_service.g]\n"
+        + "\n".join(f"model_{m} = [{{ from_kmh = 0, mps2 = 0.{m + 2} }}]" for m in range(3))
+    )
+    guidance = guidance_data(load_train(_guided(tmp_path, "0.8", extra=extra, position="freight_G")))
+    assert guidance.normal_service_decelerations_mps2 == (Fraction(3, 10),) * 2  # steps 0 and 100 km/h (Kn-)
+
+
+def test_curves_prints_the_guidance_curve(tmp_path, capsys):
+    argv = ["curves", "--train", str(_guided(tmp_path, "0.8")), "--eoa", "1500", "--mrsp", "0:160"]
+    assert main([*argv, "--gradient", "0:0,500:-10,1100:5", "--speed", "80", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "permitted with GUI" in out and "1069.76" in out  # worked by hand: 0.6 then 0.5 m/s^2, Kn on +5 and -10
+
+
+def test_a_normal_service_brake_that_cannot_stop_is_refused(tmp_path, capsys):
+    extra = NORMAL_SERVICE.replace("model_1 = [{ from_kmh = 0, mps2 = 0.6 }", "model_1 = [{ from_kmh = 0, mps2 = 0.1 }")
+    argv = [
+        "curves",
+        "--train",
+        str(_guided(tmp_path, "0.8", extra=extra)),
+        "--gradient",
+        "0:-40",
+        "--out",
+        str(tmp_path),
+    ]
+    assert main(argv) == 2
+    assert (
+        "normal_service[0] = 0.1 gives A_normal_service = -0.085 m/s^2 on gradient_permille[0] = -40"
+        in capsys.readouterr().err
+    )
