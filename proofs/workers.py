@@ -10,25 +10,33 @@ from __future__ import annotations
 
 import multiprocessing
 import signal
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
 
 __all__ = ["worker_pool"]
 
 
-def _ignore_interrupts() -> None:
+def _start_worker(setup: Callable[..., None] | None, setup_args: tuple) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if setup is not None:
+        setup(*setup_args)
 
 
 @contextmanager
-def worker_pool(jobs: int) -> Iterator[ProcessPoolExecutor]:
-    """A pool of ``jobs`` spawned worker processes; leaving it by an exception (Ctrl-C included) cancels the work
-    not started and terminates the workers rather than waiting for them."""
+def worker_pool(
+    jobs: int, setup: Callable[..., None] | None = None, setup_args: tuple = ()
+) -> Iterator[ProcessPoolExecutor]:
+    """A pool of ``jobs`` spawned worker processes, each running ``setup(*setup_args)`` first (a module-level
+    function); leaving it by an exception (Ctrl-C included) cancels the work not started and terminates the
+    workers rather than waiting for them."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     pool = ProcessPoolExecutor(
-        max_workers=jobs, mp_context=multiprocessing.get_context("spawn"), initializer=_ignore_interrupts
+        max_workers=jobs,
+        mp_context=multiprocessing.get_context("spawn"),
+        initializer=_start_worker,
+        initargs=(setup, setup_args),
     )
     try:
         yield pool

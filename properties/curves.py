@@ -14,6 +14,7 @@ divides by a symbolic deceleration and z3 answers unknown.
 
 from __future__ import annotations
 
+import dataclasses
 from fractions import Fraction
 
 from atcs.model.braking_data import curve_national_data, curve_train_data
@@ -293,9 +294,39 @@ def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
     return o.eq(out.ebi_m, ebd_location_m(o, p, p, curve_gradient(p), curve_target(p), v_bec) - d_bec)
 
 
+def sized_node(node, fixed: dict):
+    """``node`` with the array sizes of ``fixed`` (itself if they are its own; one node per shape, so a property
+    and its lemmas share it)."""
+    sizes = {key: len(fixed[key]) for key in node.sizes if key in fixed}
+    if {**node.sizes, **sizes} == node.sizes:
+        return node
+    name = f"{node.name}_" + "_".join(str(sizes.get(key, node.sizes[key])) for key in sorted(node.sizes))
+    if name not in _SIZED:
+        _SIZED[name] = dataclasses.replace(node, name=name, sizes={**node.sizes, **sizes})
+    return _SIZED[name]
+
+
+_SIZED: dict = {}
+
+
+def curve_node(fixed: dict):
+    """The curves node whose brake tables have the sizes of ``fixed``'s: a registered one, or :data:`CURVES` with
+    those sizes (and its gradient profile's, when ``fixed`` gives the breakpoints)."""
+    sizes = {key: len(fixed[key]) for key in CURVES.sizes if key in fixed}
+    for node in (CURVES, STEPPED_CURVES, CONVERTED_CURVES):
+        if {**node.sizes, **sizes} == node.sizes:
+            return node
+    return sized_node(CURVES, fixed)
+
+
 def _properties(preset: str):
-    fixed = PRESETS[preset]
-    node = {1: CURVES, 3: STEPPED_CURVES, 4: CONVERTED_CURVES}[len(fixed["emergency_speeds_mps"])]
+    return curve_properties(preset, PRESETS[preset], guidance=preset in GUIDANCE_PRESETS)
+
+
+def curve_properties(preset: str, fixed: dict, *, guidance: bool = False) -> tuple[Property, ...]:
+    """The curve properties (CRV-01, 02, 06, 08, 10, 11, and with ``guidance`` CRV-12) for one set of fixed data,
+    named ``curves.<kind>_<preset>``."""
+    node = curve_node(fixed)
     return (
         Property(
             name=f"curves.order_{preset}",
@@ -360,7 +391,7 @@ def _properties(preset: str):
         ),
         *(
             ()
-            if preset not in GUIDANCE_PRESETS
+            if not guidance
             else (
                 Property(
                     name=f"curves.gui_is_normal_service_curve_{preset}",
@@ -375,7 +406,7 @@ def _properties(preset: str):
                         "(FAR_M); with the guidance curve enabled the permitted speed location is the nearer of "
                         "d_SBI1(v) - v * T_driver and d_GUI(v)."
                     ),
-                    node=GUIDANCE_CURVES,
+                    node=sized_node(GUIDANCE_CURVES, fixed),
                     holds=_gui_is_normal_service_curve,
                     assumptions=(TRACK_AND_TARGET, QUERY),
                     fixed_params={**fixed, **DESIGN_NORMAL_SERVICE},

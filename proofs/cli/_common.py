@@ -96,21 +96,20 @@ def add_jobs(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--jobs", metavar="N", type=positive_int, default=1, help="worker processes (default 1)")
 
 
-def selected_properties(command: str, patterns: list[str] | None) -> list:
-    """The registered properties any ``--only`` glob selects (all without one); a glob that matches no
-    property is a usage error."""
-    from atcs.properties import PROPERTIES, select
+def selected_properties(command: str, patterns: list[str] | None, properties: dict | None = None) -> list:
+    """The registered properties (or ``properties``, by name) any ``--only`` glob selects (all without one); a
+    glob that matches no property is a usage error."""
+    from atcs.properties import PROPERTIES
 
+    properties = PROPERTIES if properties is None else properties
     if not patterns:
-        return select()
-    chosen: set[str] = set()
+        return list(properties.values())
+    chosen = set(matching(properties, patterns))
     for pattern in patterns:
-        props = select(pattern)
-        if not props:
-            modules = sorted({p.module for p in PROPERTIES.values()})
+        if not matching(properties, [pattern]):
+            modules = sorted({p.module for p in properties.values()})
             raise UsageError(f"{command}: --only {pattern!r} matches no property (modules: {', '.join(modules)})")
-        chosen.update(p.name for p in props)
-    return [p for name, p in PROPERTIES.items() if name in chosen]
+    return [p for name, p in properties.items() if name in chosen]
 
 
 def matching(names, patterns: list[str]) -> list[str]:

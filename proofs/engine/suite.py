@@ -11,14 +11,40 @@ from atcs.properties import PROPERTIES, Property
 
 _proved_in_this_worker: dict[str, Result] = {}
 """Lemma results in a worker process (workers are spawned afresh for each run)."""
+_registry_in_this_worker: dict[str, Property] = PROPERTIES
+"""The properties a worker process proves by name: the registered ones, and a configuration's
+(:func:`_use_configuration`)."""
+
+
+def _use_configuration(path: str) -> None:
+    """A worker's setup for ``atcs prove --config``: the configuration's properties beside the registered ones."""
+    global _registry_in_this_worker
+    _registry_in_this_worker = configured_registry(path)
+
+
+def configured_registry(path: str | None) -> dict[str, Property]:
+    """The registered properties, and with a configuration file its train- and line-dependent ones
+    (:mod:`atcs.properties.configured`)."""
+    if path is None:
+        return PROPERTIES
+    from atcs.model.configuration import load_configuration
+    from atcs.properties.configured import configuration_properties
+
+    return {**PROPERTIES, **{p.name: p for p in configuration_properties(load_configuration(path))}}
 
 
 def _prove_registered(
-    name: str, timeout_s: float, proved: dict[str, Result] | None = None, smooth: bool = False, nominal: bool = False
+    name: str,
+    timeout_s: float,
+    proved: dict[str, Result] | None = None,
+    smooth: bool = False,
+    nominal: bool = False,
+    registry: dict[str, Property] | None = None,
 ) -> Result:
     proved = _proved_in_this_worker if proved is None else proved
+    registry = _registry_in_this_worker if registry is None else registry
     result = proved.get(name) or prove(
-        PROPERTIES[name], timeout_s=timeout_s, lemmas=PROPERTIES, proved=proved, smooth_cex=smooth, nominal_cex=nominal
+        registry[name], timeout_s=timeout_s, lemmas=registry, proved=proved, smooth_cex=smooth, nominal_cex=nominal
     )
     proved[name] = result
     return result
@@ -32,18 +58,22 @@ def run(
     on_start: Callable[[Property], None] = lambda p: None,
     smooth: bool = False,
     nominal: bool = False,
+    configuration: str | None = None,
 ) -> Iterator[Result]:
-    """Yield one result per registered property, in completion order; with ``smooth``, counterexamples are
-    smoothed (:mod:`atcs.proofs.cex.smoothing`), with ``nominal`` made near nominal (:mod:`atcs.proofs.cex.nominal`)."""
+    """Yield one result per registered property (or property of the ``configuration`` file), in completion order;
+    with ``smooth``, counterexamples are smoothed (:mod:`atcs.proofs.cex.smoothing`), with ``nominal`` made near
+    nominal (:mod:`atcs.proofs.cex.nominal`)."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     if jobs == 1 or len(props) == 1:
         proved: dict[str, Result] = {}
+        registry = configured_registry(configuration)
         for prop in props:
             on_start(prop)
-            yield _prove_registered(prop.name, timeout_s, proved, smooth, nominal)
+            yield _prove_registered(prop.name, timeout_s, proved, smooth, nominal, registry)
         return
-    with worker_pool(jobs) as pool:
+    setup = (_use_configuration, (configuration,)) if configuration is not None else (None, ())
+    with worker_pool(jobs, *setup) as pool:
         futures = {}
         for prop in props:
             on_start(prop)

@@ -1,0 +1,62 @@
+"""``atcs prove --config``: a configuration's properties proved in this process and in workers alike, what is not
+covered said and counted as incomplete, a bad configuration one line, and a configured property that can fail."""
+
+from pathlib import Path
+
+import pytest
+
+from atcs.model import curves
+from atcs.model.configuration import load_configuration
+from atcs.proofs.cex.trace import replay, reproduce
+from atcs.proofs.cli import main
+from atcs.proofs.cli._common import EXIT_UNKNOWN, EXIT_USAGE
+from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import patched
+from atcs.properties.configured import configuration_properties
+
+SHIPPED = Path(__file__).parents[3] / "model" / "configurations"
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_configuration_is_proved(jobs, tmp_path, capsys):
+    report = tmp_path / "r.json"
+    argv = ["prove", "--config", str(SHIPPED / "seeds.toml"), "--only", "curves.spacing_*", "--jobs", jobs]
+    assert main([*argv, "--json", str(report), "--cex-dir", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "curves.spacing_seed000_design_0" in out and "curves.spacing_seed002_design_0" in out
+    assert "not covered" not in out
+    assert "scope each closed-loop theorem holds on one gradient transition of the line (two segments)" in out
+
+
+def test_what_is_not_covered_is_said_and_incomplete(tmp_path, capsys):
+    argv = ["prove", "--config", str(SHIPPED / "example_line.toml"), "--only", "curves.spacing_*_example_0"]
+    assert main([*argv, "--cex-dir", str(tmp_path)]) == EXIT_UNKNOWN
+    out = capsys.readouterr().out
+    assert "not covered lambda_passenger_P_100: the closed-loop theorems (CL-00 to CL-06) are not made" in out
+    assert out.count(" proved ") == 2
+
+
+def test_a_bad_configuration_is_one_line(tmp_path, capsys):
+    bad = tmp_path / "c.toml"
+    bad.write_text((SHIPPED / "seeds.toml").read_text().replace("cycle_s = 0.1", "cycle_s = -1"), encoding="utf-8")
+    assert main(["prove", "--config", str(bad)]) == EXIT_USAGE
+    err = capsys.readouterr().err
+    assert err.strip() == f"atcs: error: prove: {bad}: atp.cycle_s = -1 must be positive"
+
+
+def test_an_only_matching_nothing_in_the_configuration_is_a_usage_error(capsys):
+    assert main(["prove", "--config", str(SHIPPED / "seeds.toml"), "--only", "supervision.*"]) == EXIT_USAGE
+    assert "--only 'supervision.*' matches no property (modules: closed_loop, curves)" in capsys.readouterr().err
+
+
+def test_a_configured_property_falsified_by_a_mutant_replays():
+    """A configured property is a registered one's statement over other data: the registered kind's mutant (the
+    indication curve at the permitted curve) falsifies it, and the counterexample replays exactly."""
+    config = load_configuration(SHIPPED / "example_line.toml")
+    prop = next(p for p in configuration_properties(config) if p.name == "curves.spacing_gamma_passenger_p_example_3")
+    assert prove(prop, timeout_s=120).status == "proved"
+    with patched(curves.curve_locations, "permitted - speed_mps * n.t_indication_s", "permitted"):
+        result = prove(prop, timeout_s=120)
+        assert result.status == "falsified", result.message
+        assert reproduce(prop, result.trace).first_violation == result.k
+    assert replay(prop, result.trace).first_violation is None
