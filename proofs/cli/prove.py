@@ -41,6 +41,12 @@ def add_parser(subparsers) -> None:
         help="prove the train- and line-dependent properties of this configuration (TOML: trains, national "
         "values, lines, docs/configuration.md) instead of the registered ones",
     )
+    p.add_argument(
+        "--cache",
+        metavar="DIR",
+        help="keep proved verdicts here and reuse those whose property, data and imported sources are unchanged "
+        "(docs/commands.md)",
+    )
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
     p.add_argument(
@@ -94,10 +100,10 @@ def run(args, out, err) -> int:
     props = selected_properties("prove", args.only, configured)
     check_outputs(
         files={"--json": args.json, "--junit": args.junit, "--catalogue": args.catalogue},
-        dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir},
+        dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir, "--cache": args.cache},
     )
     start = time.monotonic()
-    results = _prove_all(props, args, err)
+    results = _prove_or_reuse(props, configured, args, out, err)
     wall = time.monotonic() - start
     if len(results) < len(props):  # interrupted: what was proved so far, and nothing written
         _print(out, [report.result_record(p, results[p.name], None) for p in props if p.name in results], wall)
@@ -141,6 +147,25 @@ def _configured(path: str | None, out) -> tuple[dict | None, tuple[str, ...]]:
     for gap in gaps:
         out.print(f"[yellow]not covered[/] {gap}")
     return {p.name: p for p in configuration_properties(config)}, gaps
+
+
+def _prove_or_reuse(props: list, configured: dict | None, args, out, err) -> dict:
+    """The verdict of each property by name: with ``--cache``, the kept ones reused (said in a line) and the
+    others proved and kept (:mod:`atcs.proofs.engine.cache`)."""
+    if args.cache is None:
+        return _prove_all(props, args, err)
+    from atcs.proofs.engine.cache import VerdictCache
+    from atcs.properties import PROPERTIES
+
+    cache = VerdictCache(args.cache, {**PROPERTIES, **(configured or {})})
+    reused = {p.name: r for p in props if (r := cache.get(p)) is not None}
+    if reused:
+        out.print(f"reused {len(reused)} proved verdicts from {args.cache}: " + ", ".join(sorted(reused)))
+    results = _prove_all([p for p in props if p.name not in reused], args, err)
+    for prop in props:
+        if prop.name in results:
+            cache.put(prop, results[prop.name])
+    return {**reused, **results}
 
 
 def _prove_all(props: list, args, err) -> dict:
