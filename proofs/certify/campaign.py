@@ -68,8 +68,21 @@ def solver_versions() -> dict[str, str]:
     return {"z3": z3.get_version_string(), "cvc5": getattr(cvc5, "__version__", "unknown")}
 
 
-def depths_from_report(path: str | Path) -> dict[str, int]:
-    """The depth of each proved property in a prove report (``atcs prove --json``)."""
+_registry_in_this_worker: Mapping[str, Property] = PROPERTIES
+"""The properties a worker process certifies by name: the registered ones, and a configuration's."""
+
+
+def _use_configuration(path: str) -> None:
+    """A worker's setup for ``atcs certify --config``: the configuration's properties beside the registered ones."""
+    global _registry_in_this_worker
+    from atcs.proofs.engine.suite import configured_registry
+
+    _registry_in_this_worker = configured_registry(path)
+
+
+def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROPERTIES) -> dict[str, int]:
+    """The depth of each proved property in a prove report (``atcs prove --json``); its names must be in
+    ``registry``."""
     try:
         doc = json.loads(Path(path).read_text())
     except OSError as exc:
@@ -84,7 +97,7 @@ def depths_from_report(path: str | Path) -> dict[str, int]:
         name, status, k = (
             (record.get(key) for key in ("name", "status", "k")) if isinstance(record, dict) else (None, None, None)
         )
-        if not isinstance(name, str) or name not in PROPERTIES:
+        if not isinstance(name, str) or name not in registry:
             raise ProveReportError(f"{path}: properties[{j}].name = {name!r} is not a registered property")
         if status == "proved":
             if not isinstance(k, int) or isinstance(k, bool) or k < 0:
@@ -110,14 +123,16 @@ def certify_one(
     timeout_s: float | Mapping[str, float],
     cvc5_resource_limit: int | None = None,
     z3_only: bool = False,
+    registry: Mapping[str, Property] | None = None,
 ) -> Certified:
     """The certificate of one registered property proved at depth ``k``, checked by every solver within its
     per-check time limit (:func:`solver_timeouts`), cvc5 also within ``cvc5_resource_limit`` units a check;
     with ``z3_only`` cvc5 is not asked (its checks say so, and the property stays unconfirmed)."""
     limits = solver_timeouts(timeout_s)
-    prop = PROPERTIES[name]
+    registry = _registry_in_this_worker if registry is None else registry
+    prop = registry[name]
     try:
-        obs = obligations(prop, k, PROPERTIES)
+        obs = obligations(prop, k, registry)
     except Exception as exc:  # the model could not be built: an error, never a pass
         return Certified(name, prop.requirement, k, prop.lemmas, (), (), "error", f"{type(exc).__name__}: {exc}")
     checks = []
@@ -153,19 +168,27 @@ def run(
     cvc5_resource_limit: int | None = None,
     z3_only: Collection[str] = (),
     on_start: Callable[[Property], None] = lambda p: None,
+    configuration: str | None = None,
 ) -> Iterator[Certified]:
-    """Yield the certificate of each property in ``depths``, checked, in completion order (``timeout_s``: one
-    per-check limit for both solvers, or one per solver; ``z3_only``: the properties cvc5 is not asked about)."""
+    """Yield the certificate of each property in ``depths`` (registered, or of the ``configuration`` file),
+    checked, in completion order (``timeout_s``: one per-check limit for both solvers, or one per solver;
+    ``z3_only``: the properties cvc5 is not asked about)."""
+    from atcs.proofs.engine.suite import configured_registry
+
     timeout_s = solver_timeouts(timeout_s)
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     todo = [p for p in props if p.name in depths]
     if jobs == 1 or len(todo) <= 1:
+        registry = configured_registry(configuration)
         for prop in todo:
             on_start(prop)
-            yield certify_one(prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only)
+            yield certify_one(
+                prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only, registry
+            )
         return
-    with worker_pool(jobs) as pool:
+    setup = (_use_configuration, (configuration,)) if configuration is not None else (None, ())
+    with worker_pool(jobs, *setup) as pool:
         futures = []
         for prop in todo:
             on_start(prop)

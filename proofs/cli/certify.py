@@ -43,6 +43,12 @@ def add_parser(subparsers) -> None:
     )
     add_only(f)
     f.add_argument(
+        "--config",
+        metavar="FILE",
+        help="certify the train- and line-dependent properties of this configuration (docs/configuration.md) "
+        "instead of the registered ones",
+    )
+    f.add_argument(
         "--report",
         metavar="FILE",
         help="take the proofs' depths from this atcs prove --json report (default: prove first)",
@@ -89,18 +95,19 @@ def add_parser(subparsers) -> None:
 
 def run(args, out, err) -> int:
     from atcs.proofs.certify import campaign
+    from atcs.proofs.engine.suite import configured_registry
     from atcs.proofs.files import write_atomic
-    from atcs.properties import PROPERTIES
 
-    props = selected_properties("certify", args.only)
+    registry = configured_registry(args.config)
+    props = selected_properties("certify", args.only, _configured(args.config, registry))
     check_outputs(dirs={"--dir": args.dir})
-    z3_only = _z3_only(args.z3_only, PROPERTIES)
+    z3_only = _z3_only(args.z3_only, registry)
     start = time.monotonic()
-    needed = {lemma for p in props for lemma in _lemma_closure(p, PROPERTIES)}
-    wanted = [*props, *(PROPERTIES[n] for n in sorted(needed - {p.name for p in props}))]
+    needed = {lemma for p in props for lemma in _lemma_closure(p, registry)}
+    wanted = [*props, *(registry[n] for n in sorted(needed - {p.name for p in props}))]
     if args.report is not None:
         with reraised("certify: --report ", campaign.ProveReportError):
-            depths = campaign.depths_from_report(args.report)
+            depths = campaign.depths_from_report(args.report, registry)
     else:
         depths = _prove_depths(wanted, args, err)
     limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
@@ -166,7 +173,13 @@ def _certify_all(campaign, wanted: list, depths: dict, limits: dict, z3_only: se
     with progress_bar(err, "certifying", sum(p.name in depths for p in wanted)) as bar:
         try:
             for c in campaign.run(
-                wanted, depths, timeout_s=limits, jobs=args.jobs, cvc5_resource_limit=args.cvc5_rlimit, z3_only=z3_only
+                wanted,
+                depths,
+                timeout_s=limits,
+                jobs=args.jobs,
+                cvc5_resource_limit=args.cvc5_rlimit,
+                z3_only=z3_only,
+                configuration=args.config,
             ):
                 results[c.name] = c
                 bar.done(f"certified {c.name}", f"{c.own_status()} {c.name} (own checks, lemmas aside)")
@@ -181,7 +194,7 @@ def _prove_depths(wanted: list, args, err) -> dict[str, int]:
 
     depths = {}
     with progress_bar(err, "proving", len(wanted)) as bar:
-        for result in suite.run(wanted, timeout_s=args.timeout, jobs=args.jobs):
+        for result in suite.run(wanted, timeout_s=args.timeout, jobs=args.jobs, configuration=args.config):
             if result.status == "proved":
                 depths[result.name] = result.k
             bar.done(f"proving {result.name}: {result.status}")
@@ -205,6 +218,13 @@ def _print(out, records: list[dict], wall_s: float, directory: Path) -> None:
     for r in records:
         if r["status"] != "certified":
             out.print(f"[{STYLE[r['status']]}]{r['status']}[/] {r['name']}: {r['message']}")
+
+
+def _configured(path: str | None, registry: dict) -> dict | None:
+    """The configuration's own properties by name (None without one): the registry less the registered ones."""
+    from atcs.properties import PROPERTIES
+
+    return None if path is None else {n: p for n, p in registry.items() if n not in PROPERTIES}
 
 
 def _z3_only(patterns: str | None, registry) -> set[str]:

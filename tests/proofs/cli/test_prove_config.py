@@ -60,3 +60,38 @@ def test_a_configured_property_falsified_by_a_mutant_replays():
         assert result.status == "falsified", result.message
         assert reproduce(prop, result.trace).first_violation == result.k
     assert replay(prop, result.trace).first_violation is None
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_a_configuration_is_certified(jobs, tmp_path, capsys):
+    argv = ["certify", "--config", str(SHIPPED / "seeds.toml"), "--only", "curves.spacing_*", "--jobs", jobs]
+    assert main([*argv, "--dir", str(tmp_path / "c")]) == 0
+    out = capsys.readouterr().out
+    assert "curves.spacing_seed000_design_0" in out and out.count("certified") >= 2
+    assert list((tmp_path / "c" / "curves.spacing_seed002_design_0").glob("*.smt2"))
+
+
+def test_a_prove_report_of_a_configuration_is_read_with_it(tmp_path, capsys):
+    report = tmp_path / "r.json"
+    config = str(SHIPPED / "seeds.toml")
+    assert main(["prove", "--config", config, "--only", "curves.spacing_seed000*", "--json", str(report)]) == 0
+    assert (
+        main(
+            [
+                "certify",
+                "--config",
+                config,
+                "--only",
+                "curves.spacing_seed000*",
+                "--report",
+                str(report),
+                "--dir",
+                str(tmp_path / "c"),
+            ]
+        )
+        == 0
+    )
+    assert main(["certify", "--report", str(report), "--dir", str(tmp_path / "d")]) == EXIT_USAGE
+    assert "properties[0].name = 'curves.spacing_seed000_design_0' is not a registered property" in (
+        capsys.readouterr().err
+    )
