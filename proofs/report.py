@@ -78,7 +78,10 @@ def write_witnesses(directory: str | Path, prop: Property, result: Result) -> Pa
     return path
 
 
-def json_report(records: list[dict], *, timeout_s: float, wall_s: float) -> str:
+def json_report(
+    records: list[dict], *, timeout_s: float, wall_s: float, configuration: str | None = None, not_covered=()
+) -> str:
+    """The report of ``atcs prove``; with ``--config``, the configuration file and what it does not cover."""
     counts = {s: sum(r["status"] == s for r in records) for s in Status}
     doc = {
         "tool": "atcs",
@@ -87,6 +90,8 @@ def json_report(records: list[dict], *, timeout_s: float, wall_s: float) -> str:
         "summary": counts,
         "properties": records,
     }
+    if configuration is not None:
+        doc |= {"configuration": configuration, "not_covered": list(not_covered)}
     return json.dumps(doc, indent=2) + "\n"
 
 

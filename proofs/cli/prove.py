@@ -121,7 +121,12 @@ def run(args, out, err) -> int:
         records.append(report.result_record(prop, result, cex))
     _print(out, records, wall)
     if args.json:
-        write_atomic(args.json, report.json_report(records, timeout_s=args.timeout, wall_s=wall))
+        write_atomic(
+            args.json,
+            report.json_report(
+                records, timeout_s=args.timeout, wall_s=wall, configuration=args.config, not_covered=gaps
+            ),
+        )
     if args.junit:
         write_atomic(args.junit, report.junit_report(records, wall_s=wall))
     if args.catalogue:

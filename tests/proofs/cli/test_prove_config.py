@@ -1,6 +1,7 @@
 """``atcs prove --config``: a configuration's properties proved in this process and in workers alike, what is not
 covered said and counted as incomplete, a bad configuration one line, and a configured property that can fail."""
 
+import json
 from pathlib import Path
 
 import pytest
@@ -30,10 +31,12 @@ def test_a_configuration_is_proved(jobs, tmp_path, capsys):
 
 def test_what_is_not_covered_is_said_and_incomplete(tmp_path, capsys):
     argv = ["prove", "--config", str(SHIPPED / "example_line.toml"), "--only", "curves.spacing_*_example_0"]
-    assert main([*argv, "--cex-dir", str(tmp_path)]) == EXIT_UNKNOWN
+    assert main([*argv, "--cex-dir", str(tmp_path), "--json", str(tmp_path / "r.json")]) == EXIT_UNKNOWN
     out = capsys.readouterr().out
     assert "not covered lambda_passenger_P_100: the closed-loop theorems (CL-00 to CL-06) are not made" in out
     assert out.count(" proved ") == 2
+    doc = json.loads((tmp_path / "r.json").read_text())
+    assert doc["configuration"] == argv[2] and doc["not_covered"][0].startswith("lambda_passenger_P_100: the")
 
 
 def test_a_bad_configuration_is_one_line(tmp_path, capsys):
