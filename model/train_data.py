@@ -17,6 +17,7 @@ field and the value.
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
@@ -190,6 +191,14 @@ def preset_data(train: TrainData, national: NationalData, cycle_s=CYCLE_S) -> di
         "guaranteed_deceleration_mps2": k * min(train.emergency_decelerations_mps2),
         "max_deceleration_mps2": Fraction(3),
     }
+
+
+def whole_cycle_train(train: TrainData, cycle_s) -> TrainData:
+    """``train`` with T_be and T_traction rounded up to whole cycles of ``cycle_s``, T_traction to at least one: the
+    closed loop's plant acts on cycles, and the ATP then assumes the same (not shorter) times."""
+    t_be = math.ceil(train.t_be_s / cycle_s) * cycle_s
+    t_traction = max(math.ceil(train.t_traction_s / cycle_s), 1) * cycle_s
+    return dataclasses.replace(train, t_be_s=Fraction(t_be), t_traction_s=Fraction(t_traction))
 
 
 MAX_BUILD_UP_S = 120

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import math
 import re
 from fractions import Fraction
 
@@ -31,7 +30,7 @@ from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import Profile
 from atcs.model.psl import extend_by_train_length
-from atcs.model.train_data import preset_data
+from atcs.model.train_data import preset_data, whole_cycle_train
 from atcs.properties.closed_loop import closed_loop_properties
 from atcs.properties.curves import DESIGN_NORMAL_SERVICE, curve_properties, sized_node
 from atcs.properties.property import Property
@@ -42,7 +41,6 @@ __all__ = [
     "configuration_gaps",
     "configuration_properties",
     "gradient_transitions",
-    "whole_cycle_train",
 ]
 
 
@@ -77,13 +75,6 @@ def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], .
     values = profile.values
     pairs = tuple(dict.fromkeys(itertools.pairwise(values)))
     return pairs or ((values[0], values[0]),)
-
-
-def whole_cycle_train(train, cycle_s: Fraction):
-    """``train`` with T_be and T_traction rounded up to whole cycles, T_traction to at least one."""
-    t_be = math.ceil(train.t_be_s / cycle_s) * cycle_s
-    t_traction = max(math.ceil(train.t_traction_s / cycle_s), 1) * cycle_s
-    return dataclasses.replace(train, t_be_s=Fraction(t_be), t_traction_s=Fraction(t_traction))
 
 
 def _train_line(config: Configuration, t: ConfiguredTrain, line: Line) -> tuple[Property, ...]:

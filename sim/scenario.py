@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
 
+from atcs.model.braking_data import curve_train_data
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
@@ -24,9 +25,12 @@ from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import (
     NationalData,
     TrainData,
+    TrainDataError,
     seed002_national,
     subset026_national,
+    whole_cycle_train,
 )
+from atcs.model.train_files import load_train
 from atcs.sim.double_track import TRACKS, DoubleTrack
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
@@ -226,8 +230,37 @@ def _row_fields(layout: DoubleTrack | None, *fields: str) -> tuple[str, ...]:
     return (*fields, "track") if layout is not None else fields
 
 
+def _train_data(source: str, r: _Reader, national: NationalData, cycle_s: Fraction) -> TrainData:
+    """The train of the row's ``preset``, or of its train data ``file`` (relative to the scenario; its data for a
+    target at standstill, T_be and T_traction rounded up to whole cycles as in the closed-loop proofs)."""
+    if "file" not in r.table:
+        return PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
+    if "preset" in r.table:
+        r.fail("file", "and preset both given: give one")
+    path = Path(r.text("file"))
+    path = path if path.is_absolute() else Path(source).parent / path
+    try:
+        data = whole_cycle_train(curve_train_data(load_train(path), national, 0), cycle_s)
+    except TrainDataError as exc:
+        raise ScenarioError(f"{source}: {r.name('file')}: {exc}") from None
+    if len(data.emergency_decelerations_mps2) != 1:
+        r.fail(
+            "file",
+            f"gives an emergency brake of {len(data.emergency_decelerations_mps2)} speed steps: the simulated "
+            "plant guarantees one deceleration at every speed",
+        )
+    return data
+
+
 def _train(
-    source: str, row, j: int, length_m: Fraction, layout: DoubleTrack | None, tag_spacing_m: Fraction
+    source: str,
+    row,
+    j: int,
+    length_m: Fraction,
+    layout: DoubleTrack | None,
+    tag_spacing_m: Fraction,
+    national: NationalData,
+    cycle_s: Fraction,
 ) -> TrainSpec:
     r = _Reader(
         source,
@@ -237,6 +270,7 @@ def _train(
             layout,
             "name",
             "preset",
+            "file",
             "front_m",
             "max_speed_kmh",
             "depart_s",
@@ -247,7 +281,7 @@ def _train(
         ),
     )
     name = r.text("name", f"T{j + 1}")
-    data = PRESETS[r.text("preset", "seed000", tuple(PRESETS))]()
+    data = _train_data(source, r, national, cycle_s)
     track = _track(r, layout)
     front = r.number("front_m", minimum=0)
     front_loop = layout.point(track, front) if layout is not None else front
@@ -458,8 +492,12 @@ def load_scenario(path: str | Path) -> Scenario:
     rows = top.rows("trains")
     if not rows:
         raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
+    national = NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))]()
+    cycle_s = top.number("cycle_s", "0.1", positive=True)
     trains = _trains_in_order(
-        source, [_train(source, row, j, length_m, layout, tag_spacing_m) for j, row in enumerate(rows)], layout
+        source,
+        [_train(source, row, j, length_m, layout, tag_spacing_m, national, cycle_s) for j, row in enumerate(rows)],
+        layout,
     )
     try:
         platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
@@ -474,7 +512,7 @@ def load_scenario(path: str | Path) -> Scenario:
         description=top.text("description", ""),
         source=source,
         duration_s=top.number("duration_s", positive=True),
-        cycle_s=top.number("cycle_s", "0.1", positive=True),
+        cycle_s=cycle_s,
         line_m=layout.loop_m if layout is not None else length_m,
         tag_spacing_m=tag_spacing_m,
         resource_length_m=resource_length_m,
@@ -491,7 +529,7 @@ def load_scenario(path: str | Path) -> Scenario:
         trains=trains,
         zones=_zones(source, top, length_m, layout),
         platforms=tuple(platforms),
-        national=NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))](),
+        national=national,
         ato_speed_margin_kmh=ato.number("speed_margin_kmh", 0, minimum=0),
         restrictions=_restrictions(source, top, length_m, layout),
         stations=tuple(stations),

@@ -10,13 +10,13 @@ import pytest
 
 from atcs.model.configuration import FIELDS, ConfigurationError, load_configuration
 from atcs.model.profile import Profile
+from atcs.model.train_data import whole_cycle_train
 from atcs.model.train_files import shipped_trains
 from atcs.properties.configured import (
     compensated_gradients,
     configuration_gaps,
     configuration_properties,
     gradient_transitions,
-    whole_cycle_train,
 )
 
 REFERENCE = Path(__file__).parents[2] / "docs" / "configuration.md"

@@ -663,3 +663,52 @@ class TestCommandLine:
         assert main(argv) == 2
         err = capsys.readouterr().err
         assert message in err and err.count("\n") == 1
+
+
+class TestTrainDataFiles:
+    """A scenario's train may be a train data file (docs/train-data.md) instead of a seed's preset."""
+
+    NORMAL = resolve("seed000_normal").read_text(encoding="utf-8")
+    GAMMA = Path(__file__).parents[2] / "model" / "trains" / "gamma_passenger_P.toml"
+
+    def _scenario(self, tmp_path, train_text: str) -> Path:
+        (tmp_path / "train.toml").write_text(train_text, encoding="utf-8")
+        path = tmp_path / "s.toml"
+        path.write_text(self.NORMAL.replace('preset = "seed000"', 'file = "train.toml"'), encoding="utf-8")
+        return path
+
+    def test_a_gamma_train_from_its_file_runs_the_line(self, tmp_path):
+        text = self.GAMMA.read_text().replace(
+            "t_traction_cut_off_s = 0", "t_traction_cut_off_s = 0.5\nmax_acceleration_mps2 = 0.8"
+        )
+        scenario = load_scenario(self._scenario(tmp_path, text))
+        (t1, _) = scenario.trains
+        assert t1.data.train_length_m == 600 and t1.data.t_traction_s == Fraction(1, 2)
+        sim, _ = _run(scenario)  # every property and safety check held at every cycle (a violation raises)
+        for t in sim.trains:
+            assert t.stats.distance_m > 3000 and (t.stats.emergency_brakes, t.stats.service_brakes) == (0, 0)
+            assert t.stats.max_speed_kmh > 79
+
+    def test_the_build_up_times_are_rounded_up_to_whole_cycles(self, tmp_path):
+        text = self.GAMMA.read_text().replace("t_brake_emergency_s = 2.5", "t_brake_emergency_s = 2.53")
+        (t1, _) = load_scenario(self._scenario(tmp_path, text)).trains
+        assert t1.data.t_be_s == Fraction(26, 10) and t1.data.t_traction_s == Fraction(1, 10)
+
+    @pytest.mark.parametrize(
+        ("change", "message"),
+        [
+            (
+                ('file = "train.toml"', 'file = "train.toml"\npreset = "seed000"'),
+                "trains[0].file = 'train.toml' and preset both given",
+            ),
+            (('file = "train.toml"', 'file = "none.toml"'), "trains[0].file: "),
+        ],
+    )
+    def test_bad_train_files_are_named(self, tmp_path, change, message):
+        path = self._scenario(tmp_path, self.GAMMA.read_text())
+        _assert_refused(tmp_path, path.read_text(), change, message)
+
+    def test_a_stepped_emergency_brake_is_refused(self, tmp_path):
+        lam = (Path(__file__).parents[2] / "model" / "trains" / "lambda_passenger_P_100.toml").read_text()
+        with pytest.raises(ScenarioError, match=r"gives an emergency brake of 4 speed steps: the simulated plant"):
+            load_scenario(self._scenario(tmp_path, lam))
