@@ -1,0 +1,277 @@
+"""A line's infrastructure from a railML 3.1 or 3.2 file, as a configuration's ``[[lines]]`` table
+(docs/configuration.md#railml-3-import has the mapping).
+
+The line is a chain of micro-level net elements, each one's end joined to the next one's start by a
+``<netRelation>`` (``positionOnA="1" positionOnB="0"``); its positions are metres from the first one's start.
+Speed sections (``functionalInfrastructure/speeds/speedSection``, km/h) and gradient curves
+(``geometry/gradientCurves/gradientCurve``, per mille, uphill positive) located on the chain by
+``<linearLocation>/<associatedNetElement>`` (``posBegin``/``posEnd`` in metres, ``intrinsicCoordBegin``/``End``
+of the element's length, or neither: the whole element) give the speed limits and the gradients. Where speed
+sections overlap the lowest limit holds; a vertical arc's gradient is the lower of its two ends (the one a
+braking curve must assume). Every other element is listed as not used. A file that cannot be read this way is
+refused naming the element, the attribute and the value (:class:`RailmlError`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import xml.etree.ElementTree as ET
+from collections import Counter
+from dataclasses import dataclass
+from fractions import Fraction
+from pathlib import Path
+
+from atcs.model.errors import AtcsInputError
+
+__all__ = ["NAMESPACES", "ImportedLine", "RailmlError", "import_line", "line_toml"]
+
+NAMESPACES = ("https://www.railml.org/schemas/3.1", "https://www.railml.org/schemas/3.2")
+"""The railML 3 versions read."""
+
+_USED = {"netElements", "netRelations", "speeds", "gradientCurves"}
+"""The containers the import reads; the others' elements are listed as not used."""
+
+
+class RailmlError(AtcsInputError):
+    """A railML file that cannot be imported: the message names the file, the element, the attribute, the value."""
+
+
+@dataclass(frozen=True)
+class ImportedLine:
+    """A line from railML: its length (m), speed limits ``(start_m, kmh)`` and gradients ``(start_m, permille)``
+    from 0, and the elements of the file it does not use, by kind (with their count)."""
+
+    name: str
+    length_m: Fraction
+    speed_limits: tuple[tuple[Fraction, Fraction], ...]
+    gradients: tuple[tuple[Fraction, Fraction], ...]
+    not_used: tuple[tuple[str, int], ...]
+
+
+class _File:
+    def __init__(self, path: str | Path):
+        self.source = str(path)
+        try:
+            root = ET.parse(path).getroot()
+        except OSError as exc:
+            raise RailmlError(f"{path}: cannot read the railML file: {exc.strerror}") from None
+        except ET.ParseError as exc:
+            raise RailmlError(f"{path}: not well-formed XML: {exc}") from None
+        namespace, _, tag = root.tag[1:].partition("}") if root.tag.startswith("{") else ("", "", root.tag)
+        if tag != "railML" or namespace not in NAMESPACES:
+            raise RailmlError(
+                f"{path}: the root element is {root.tag!r}, not <railML> of railML 3.1 or 3.2 ({', '.join(NAMESPACES)})"
+            )
+        self.root, self.ns = root, namespace
+
+    def q(self, path: str) -> str:
+        return "/".join(part if part in (".", "..", "*") else f"{{{self.ns}}}{part}" for part in path.split("/"))
+
+    def all(self, path: str) -> list[ET.Element]:
+        return self.root.findall(self.q(path))
+
+    def fail(self, element: ET.Element, attribute: str, problem: str):
+        tag = element.tag.rpartition("}")[2]
+        where = f"<{tag} id={element.get('id')!r}>" if element.get("id") else f"<{tag}>"
+        raise RailmlError(f"{self.source}: {where} {attribute} = {element.get(attribute)!r} {problem}")
+
+    def number(self, element: ET.Element, attribute: str, *, required: bool = True) -> Fraction | None:
+        raw = element.get(attribute)
+        if raw is None:
+            if required:
+                self.fail(element, attribute, "is missing")
+            return None
+        try:
+            value = Fraction(raw.strip())
+        except (ValueError, ZeroDivisionError):
+            self.fail(element, attribute, "is not a number")
+        if abs(value) > 10**7:
+            self.fail(element, attribute, "is out of range")
+        return value
+
+
+def _joins(f: _File, lengths: dict[str, Fraction]) -> dict[str, list[str]]:
+    """Each net element's successors: the elements whose start a ``<netRelation>`` joins its end to."""
+    joins: dict[str, list[str]] = {}
+    for r in f.all("infrastructure/topology/netRelations/netRelation"):
+        a, b = r.find(f.q("elementA")), r.find(f.q("elementB"))
+        if a is None or b is None:
+            f.fail(r, "elementA" if a is None else "elementB", "is missing")
+        if r.get("navigability") == "None" or a.get("ref") not in lengths or b.get("ref") not in lengths:
+            continue
+        ends = (r.get("positionOnA"), r.get("positionOnB"))
+        if ends in (("1", "0"), ("0", "1")):
+            first, then = (a, b) if ends == ("1", "0") else (b, a)
+            joins.setdefault(first.get("ref"), []).append(then.get("ref"))
+    return joins
+
+
+def _checked_order(f: _File, lengths: dict[str, Fraction], joins: dict, order: list[str]) -> list[str]:
+    for ref in order:
+        if ref not in lengths:
+            raise RailmlError(f"{f.source}: --net-elements names {ref!r}, which is no net element with a length")
+    for a, b in itertools.pairwise(order):
+        if b not in joins.get(a, []):
+            raise RailmlError(f"{f.source}: no <netRelation> joins the end of {a!r} to the start of {b!r}")
+    return order
+
+
+def _chain(f: _File, lengths: dict[str, Fraction], order: list[str] | None) -> list[str]:
+    """The net elements of the line in order: ``order`` checked, or the one chain the relations make."""
+    joins = _joins(f, lengths)
+    if order:
+        return _checked_order(f, lengths, joins, order)
+    branching = sorted(a for a, bs in joins.items() if len(bs) > 1)
+    if branching:
+        raise RailmlError(
+            f"{f.source}: the topology branches after net element {branching[0]!r}: name the line's net elements "
+            "in order (--net-elements)"
+        )
+    starts = [ref for ref in lengths if not any(ref in bs for bs in joins.values())]
+    if len(starts) != 1:
+        raise RailmlError(
+            f"{f.source}: the net elements make {len(starts)} chains, not one: name the line's net elements in order "
+            "(--net-elements)"
+        )
+    chain = [starts[0]]
+    while chain[-1] in joins and len(chain) <= len(lengths):
+        chain.append(joins[chain[-1]][0])
+    return chain
+
+
+def _interval(f: _File, part: ET.Element, length: Fraction) -> tuple[Fraction, Fraction]:
+    """The ``[begin, end]`` (m from the net element's start) an ``<associatedNetElement>`` covers."""
+    if part.get("posBegin") is not None or part.get("posEnd") is not None:
+        begin, end = f.number(part, "posBegin"), f.number(part, "posEnd")
+    elif part.get("intrinsicCoordBegin") is not None or part.get("intrinsicCoordEnd") is not None:
+        begin, end = f.number(part, "intrinsicCoordBegin") * length, f.number(part, "intrinsicCoordEnd") * length
+    elif part.find(f.q("linearCoordinateBegin")) is not None:
+        f.fail(part, "posBegin", "is missing: a location by linear coordinates alone is not read")
+    else:
+        begin, end = Fraction(0), length
+    begin, end = min(begin, end), max(begin, end)
+    if begin < 0 or end > length:
+        f.fail(
+            part,
+            "posEnd" if end > length else "posBegin",
+            f"lies outside {part.get('netElementRef')!r} (0 to {length} m)",
+        )
+    return begin, end
+
+
+def _pieces(f: _File, element: ET.Element, offsets: dict[str, Fraction], lengths: dict[str, Fraction]):
+    """The ``[begin, end)`` intervals (m on the line) that ``element``'s linear locations cover on the chain (a
+    location for trains running the other way only, ``applicationDirection="reverse"``, is left out)."""
+    locations = element.findall(f.q("linearLocation"))
+    if not locations:
+        f.fail(element, "linearLocation", "is missing: the element is not located")
+    pieces = []
+    for location in (loc for loc in locations if loc.get("applicationDirection") != "reverse"):
+        for part in location.findall(f.q("associatedNetElement")):
+            ref = part.get("netElementRef")
+            if ref is None:
+                f.fail(part, "netElementRef", "is missing")
+            if ref in offsets:  # else off the line
+                begin, end = _interval(f, part, lengths[ref])
+                if end > begin:
+                    pieces.append((offsets[ref] + begin, offsets[ref] + end))
+    return pieces
+
+
+def _profile(f: _File, what: str, covered: list, length_m: Fraction) -> tuple[tuple[Fraction, Fraction], ...]:
+    """``covered`` ``(begin, end, value)`` as segments from 0 to ``length_m``, the lowest value where they overlap;
+    a stretch nothing covers is refused."""
+    cuts = sorted({Fraction(0), length_m, *(x for b, e, _ in covered for x in (b, e) if 0 < x < length_m)})
+    segments = []
+    for a, b in itertools.pairwise(cuts):
+        values = [v for begin, end, v in covered if begin <= a and b <= end]
+        if not values:
+            raise RailmlError(f"{f.source}: no {what} covers the line from {float(a):g} m to {float(b):g} m")
+        if not segments or segments[-1][1] != min(values):
+            segments.append((a, min(values)))
+    return tuple(segments)
+
+
+def _lengths(f: _File) -> dict[str, Fraction]:
+    """The micro-level net elements' lengths (an aggregate of others, meso or macro level, is left out)."""
+    lengths = {}
+    for e in f.all("infrastructure/topology/netElements/netElement"):
+        if e.find(f.q("elementCollectionOrdered")) is not None or e.find(f.q("elementCollectionUnordered")) is not None:
+            continue
+        length = f.number(e, "length")
+        if not length > 0:
+            f.fail(e, "length", "must be positive")
+        lengths[e.get("id")] = length
+    if not lengths:
+        raise RailmlError(f"{f.source}: no <netElement> with a length (infrastructure/topology/netElements)")
+    return lengths
+
+
+def _speed_sections(f: _File, offsets: dict, lengths: dict) -> list:
+    speeds = []
+    for s in f.all("infrastructure/functionalInfrastructure/speeds/speedSection"):
+        if s.get("maxSpeed") == "end":
+            f.fail(s, "maxSpeed", "(the end of a restriction) is not read: give the limit that follows")
+        kmh = f.number(s, "maxSpeed")
+        if not kmh > 0:
+            f.fail(s, "maxSpeed", "must be positive")
+        speeds += [(b, e, kmh) for b, e in _pieces(f, s, offsets, lengths)]
+    return speeds
+
+
+def _gradient_curves(f: _File, offsets: dict, lengths: dict) -> list:
+    gradients = []
+    for g in f.all("infrastructure/geometry/gradientCurves/gradientCurve"):
+        if g.get("curveType") not in ("straight", "arc", "mixed"):
+            f.fail(g, "curveType", "must be straight, arc or mixed")
+        permille = f.number(g, "gradient")
+        delta = f.number(g, "deltaGradient", required=False) or Fraction(0)
+        gradients += [(b, e, min(permille, permille + delta)) for b, e in _pieces(f, g, offsets, lengths)]
+    return gradients
+
+
+def _not_used(f: _File) -> tuple[tuple[str, int], ...]:
+    """The elements of the topology, functional infrastructure and geometry views the import does not read."""
+    counts = Counter()
+    for view in ("topology", "functionalInfrastructure", "geometry"):
+        for group in f.all(f"infrastructure/{view}/*"):
+            if group.tag.rpartition("}")[2] not in _USED:
+                counts.update(child.tag.rpartition("}")[2] for child in group)
+    return tuple(sorted(counts.items()))
+
+
+def import_line(path: str | Path, name: str, net_elements: list[str] | None = None) -> ImportedLine:
+    """The line of the railML file ``path`` (module docstring), named ``name``; ``net_elements`` orders its net
+    elements where the topology alone does not (a branching line)."""
+    f = _File(path)
+    lengths = _lengths(f)
+    chain = _chain(f, lengths, net_elements)
+    offsets = dict(zip(chain, itertools.accumulate([Fraction(0), *(lengths[r] for r in chain)]), strict=False))
+    length_m = sum(lengths[r] for r in chain)
+    return ImportedLine(
+        name=name,
+        length_m=length_m,
+        speed_limits=_profile(f, "<speedSection>", _speed_sections(f, offsets, lengths), length_m),
+        gradients=_profile(f, "<gradientCurve>", _gradient_curves(f, offsets, lengths), length_m),
+        not_used=_not_used(f),
+    )
+
+
+def line_toml(line: ImportedLine) -> str:
+    """The line as a configuration's ``[[lines]]`` table (TOML)."""
+
+    def number(x: Fraction) -> str:
+        return str(x.numerator) if x.denominator == 1 else repr(float(x)) if float(x) == x else f'"{x}"'
+
+    rows = [
+        "[[lines]]",
+        f"name = {line.name!r}".replace("'", '"'),
+        f"length_m = {number(line.length_m)}",
+        "speed_limits = [",
+        *(f"  {{ start_m = {number(s)}, kmh = {number(v)} }}," for s, v in line.speed_limits),
+        "]",
+        "gradients = [",
+        *(f"  {{ start_m = {number(s)}, permille = {number(v)} }}," for s, v in line.gradients),
+        "]",
+    ]
+    return "\n".join(rows) + "\n"
