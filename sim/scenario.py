@@ -17,10 +17,11 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.braking_data import curve_train_data
+from atcs.model.configuration import ConfigurationError, load_configuration
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, platform_data
-from atcs.model.profile import parse_number
+from atcs.model.profile import KMH_PER_MPS, parse_number
 from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import (
     NationalData,
@@ -456,6 +457,8 @@ def load_scenario(path: str | Path) -> Scenario:
         "line",
         (
             "length_m",
+            "configuration",
+            "line",
             "tag_spacing_m",
             "resource_length_m",
             "speed_limits",
@@ -467,13 +470,14 @@ def load_scenario(path: str | Path) -> Scenario:
             "wayside_zone_boundaries_m",
         ),
     )
-    length_m = line.number("length_m", positive=True)
+    configured = _configured_line(line)
+    length_m = line.number("length_m", positive=True) if configured is None else configured.length_m
     tag_spacing_m = line.number("tag_spacing_m", positive=True)
     resource_length_m = line.number("resource_length_m", positive=True)
     if tag_spacing_m > length_m or resource_length_m > length_m:
         raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
     layout = _double_track(line, length_m, tag_spacing_m, resource_length_m)
-    speed_limits, gradients = _line_profiles(line, length_m, layout)
+    speed_limits, gradients = _line_profiles(line, length_m, layout, configured)
     atp = _Reader(
         source,
         document["atp"],
@@ -542,10 +546,41 @@ def load_scenario(path: str | Path) -> Scenario:
     return scenario
 
 
-def _line_profiles(line: _Reader, length_m: Fraction, layout) -> tuple[tuple[Segment, ...], tuple[Segment, ...]]:
-    """The line's speed limits and gradients, laid out over both tracks of a double track."""
-    speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
-    gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
+def _configured_line(line: _Reader):
+    """The line that ``line.configuration`` (a configuration file, relative to the scenario) names ``line.line``,
+    or None without one; the scenario then gives neither its length, nor its speed limits, nor its gradients."""
+    if "configuration" not in line.table:
+        if "line" in line.table:
+            line.fail("line", "needs line.configuration, the file that has the line")
+        return None
+    for key in ("length_m", "speed_limits", "gradients"):
+        if key in line.table:
+            line.fail(key, "and line.configuration both given: the configuration's line has its own")
+    path = Path(line.text("configuration"))
+    path = path if path.is_absolute() else Path(line.source).parent / path
+    try:
+        config = load_configuration(path)
+    except ConfigurationError as exc:
+        raise ScenarioError(f"{line.source}: line.configuration: {exc}") from None
+    name = line.text("line", config.lines[0].name if len(config.lines) == 1 else None)
+    found = [ln for ln in config.lines if ln.name == name]
+    if not found:
+        line.fail("line", f"names no line of {path} (its lines: {', '.join(ln.name for ln in config.lines)})")
+    return found[0]
+
+
+def _line_profiles(
+    line: _Reader, length_m: Fraction, layout, configured=None
+) -> tuple[tuple[Segment, ...], tuple[Segment, ...]]:
+    """The line's speed limits and gradients (the scenario's, or the ``configured`` line's), laid out over both
+    tracks of a double track."""
+    if configured is None:
+        speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
+        gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
+    else:
+        limits, grads = configured.speed_limits, configured.gradients
+        speed_limits = tuple(Segment(x, v * KMH_PER_MPS) for x, v in zip(limits.starts_m, limits.values, strict=True))
+        gradients = tuple(Segment(x, g) for x, g in zip(grads.starts_m, grads.values, strict=True))
     if layout is None:
         return speed_limits, gradients
     turn_back_kmh = line.number("turn_back_kmh", positive=True)

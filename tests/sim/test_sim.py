@@ -712,3 +712,40 @@ class TestTrainDataFiles:
         lam = (Path(__file__).parents[2] / "model" / "trains" / "lambda_passenger_P_100.toml").read_text()
         with pytest.raises(ScenarioError, match=r"gives an emergency brake of 4 speed steps: the simulated plant"):
             load_scenario(self._scenario(tmp_path, lam))
+
+
+class TestConfiguredLines:
+    """A scenario's line may be a configuration's (docs/configuration.md): its length, speed limits and gradients."""
+
+    SEEDS = Path(__file__).parents[2] / "model" / "configurations" / "seeds.toml"
+    NORMAL = resolve("seed000_normal").read_text(encoding="utf-8")
+
+    def _text(self, configuration: str, line: str = 'line = "design"\n') -> str:
+        text = self.NORMAL.replace("length_m = 15000\n", f'configuration = "{configuration}"\n{line}')
+        text = text.replace("speed_limits = [{ start_m = 0, kmh = 80 }]\n", "")
+        return text.replace("front_m = 11000", "front_m = 2000").replace("front_m = 10000", "front_m = 1000")
+
+    def test_a_configured_line_is_run(self, tmp_path):
+        path = tmp_path / "s.toml"
+        path.write_text(self._text(str(self.SEEDS)).replace("duration_s = 320", "duration_s = 120"))
+        scenario = load_scenario(path)
+        assert scenario.line_m == 5000
+        assert [(g.start_m, g.value) for g in scenario.gradients_permille] == [(0, -40), (2500, 40)]
+        assert [(g.start_m, g.value) for g in scenario.speed_limits_kmh] == [(0, 80)]
+        sim, _ = _run(scenario)  # a violation raises
+        assert all(t.stats.distance_m > 1000 for t in sim.trains)
+
+    @pytest.mark.parametrize(
+        ("change", "message"),
+        [
+            (('line = "design"', 'line = "main"'), "line.line = 'main' names no line of"),
+            (('line = "design"', 'line = "design"\nlength_m = 5000'), "line.length_m = 5000 and line.configuration"),
+            (("seeds.toml", "missing.toml"), "line.configuration: "),
+        ],
+    )
+    def test_bad_configured_lines_are_named(self, tmp_path, change, message):
+        _assert_refused(tmp_path, self._text(str(self.SEEDS)), change, message)
+
+    def test_a_line_name_needs_a_configuration(self, tmp_path):
+        text = self.NORMAL.replace("length_m = 15000\n", 'length_m = 15000\nline = "design"\n')
+        _assert_refused(tmp_path, text, ("tag_spacing_m", "tag_spacing_m"), "line.line = 'design' needs line.config")
