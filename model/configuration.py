@@ -114,8 +114,7 @@ def _national(source: str, table) -> NationalData:
             changes[name] = r.table[name]
         else:
             changes[name] = r.number(name, minimum=0)
-    national = dataclasses.replace(national, **changes)
-    return national
+    return dataclasses.replace(national, **changes)
 
 
 def _segments(source: str, r: _Reader, key: str, value_key: str, length_m: Fraction, low, high) -> Profile:

@@ -32,7 +32,7 @@ from atcs.model.profile import Profile
 from atcs.model.psl import extend_by_train_length
 from atcs.model.train_data import preset_data, whole_cycle_train
 from atcs.properties.closed_loop import closed_loop_properties
-from atcs.properties.curves import DESIGN_NORMAL_SERVICE, curve_properties, sized_node
+from atcs.properties.curves import curve_properties, sized_node
 from atcs.properties.property import Property
 
 __all__ = [
@@ -80,17 +80,14 @@ def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], .
 def _train_line(config: Configuration, t: ConfiguredTrain, line: Line) -> tuple[Property, ...]:
     tag = f"{_slug(t.name)}_{_slug(line.name)}"
     guidance = None if t.rail is None else guidance_data(t.rail)
+    guidance = None if guidance is None else as_dict(guidance)
     curve_data = {**as_dict(t.train), **as_dict(t.national)}
-    if guidance is not None:
-        curve_data |= {key: getattr(guidance, key) for key in DESIGN_NORMAL_SERVICE}
     rounded = whole_cycle_train(t.train, config.cycle_s)
     loop_data = preset_data(rounded, t.national, config.cycle_s)
     props = []
     compensated = compensated_gradients(line, t.train.train_length_m)
     for j, pair in enumerate(gradient_transitions(compensated)):
-        props += curve_properties(
-            f"{tag}_{j}", {**curve_data, "gradient_permille": pair}, guidance=guidance is not None
-        )
+        props += curve_properties(f"{tag}_{j}", {**curve_data, "gradient_permille": pair}, guidance)
         if not closed_loop_gap(t):
             fixed = {**loop_data, "gradient_permille": pair}
             loop_node = sized_node(CLOSED_LOOP, fixed)

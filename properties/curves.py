@@ -320,11 +320,12 @@ def curve_node(fixed: dict):
 
 
 def _properties(preset: str):
-    return curve_properties(preset, PRESETS[preset], guidance=preset in GUIDANCE_PRESETS)
+    return curve_properties(preset, PRESETS[preset], DESIGN_NORMAL_SERVICE if preset in GUIDANCE_PRESETS else None)
 
 
-def curve_properties(preset: str, fixed: dict, *, guidance: bool = False) -> tuple[Property, ...]:
-    """The curve properties (CRV-01, 02, 06, 08, 10, 11, and with ``guidance`` CRV-12) for one set of fixed data,
+def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> tuple[Property, ...]:
+    """The curve properties (CRV-01, 02, 06, 08, 10, 11, and with a normal service brake ``guidance``, the fields of
+    :class:`~atcs.model.curves.GuidanceData`, CRV-12) for one set of fixed data,
     named ``curves.<kind>_<preset>``."""
     node = curve_node(fixed)
     return (
@@ -391,7 +392,7 @@ def curve_properties(preset: str, fixed: dict, *, guidance: bool = False) -> tup
         ),
         *(
             ()
-            if not guidance
+            if guidance is None
             else (
                 Property(
                     name=f"curves.gui_is_normal_service_curve_{preset}",
@@ -406,10 +407,10 @@ def curve_properties(preset: str, fixed: dict, *, guidance: bool = False) -> tup
                         "(FAR_M); with the guidance curve enabled the permitted speed location is the nearer of "
                         "d_SBI1(v) - v * T_driver and d_GUI(v)."
                     ),
-                    node=sized_node(GUIDANCE_CURVES, fixed),
+                    node=sized_node(GUIDANCE_CURVES, {**fixed, **guidance}),
                     holds=_gui_is_normal_service_curve,
                     assumptions=(TRACK_AND_TARGET, QUERY),
-                    fixed_params={**fixed, **DESIGN_NORMAL_SERVICE},
+                    fixed_params={**fixed, **guidance},
                 ),
             )
         ),

@@ -98,3 +98,29 @@ def test_a_prove_report_of_a_configuration_is_read_with_it(tmp_path, capsys):
     assert "properties[0].name = 'curves.spacing_seed000_design_0' is not a registered property" in (
         capsys.readouterr().err
     )
+
+
+def test_a_train_with_a_normal_service_brake_gets_its_own_guidance_curve_proved(tmp_path):
+    """CRV-12 with the train file's normal service brake (three merged speed steps here), not the design one."""
+    from atcs.model.braking_data import guidance_data
+    from atcs.model.node import as_dict
+
+    train = tmp_path / "guided.toml"
+    train.write_text(
+        (SHIPPED.parent / "trains" / "gamma_passenger_P.toml").read_text()
+        + "\n[normal_service]\na_sb01_mps2 = 0.5\na_sb12_mps2 = 0.9\nkn_plus = [{ from_kmh = 0, mps2 = 3 }]\n"
+        "kn_minus = [{ from_kmh = 0, mps2 = 5 }, { from_kmh = 100, mps2 = 4 }]\n[normal_service.p]\n"
+        "model_0 = [{ from_kmh = 0, mps2 = 0.4 }]\n"
+        "model_1 = [{ from_kmh = 0, mps2 = 0.6 }, { from_kmh = 60, mps2 = 0.5 }]\n"
+        "model_2 = [{ from_kmh = 0, mps2 = 0.7 }]\n",
+        encoding="utf-8",
+    )
+    config = tmp_path / "c.toml"
+    config.write_text(
+        (SHIPPED / "seeds.toml").read_text().replace('preset = "seed002"', f'file = "{train}"'), encoding="utf-8"
+    )
+    loaded = load_configuration(config)
+    (gui,) = [p for p in configuration_properties(loaded) if p.requirement == "CRV-12"]
+    for key, value in as_dict(guidance_data(loaded.trains[1].rail)).items():
+        assert gui.fixed_params[key] == value and gui.node.sizes[key] == len(value)
+    assert prove(gui, timeout_s=120).status == "proved"
