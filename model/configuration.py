@@ -31,11 +31,14 @@ from atcs.model.train_files import load_train
 __all__ = [
     "FIELDS",
     "NATIONAL_PRESETS",
+    "RANGE_FIELDS",
     "Configuration",
     "ConfigurationError",
     "ConfiguredTrain",
+    "DataRange",
     "Line",
     "load_configuration",
+    "train_with",
 ]
 
 MAX_LINE_M = 1_000_000
@@ -45,6 +48,8 @@ MAX_LINE_GRADIENT_PERMILLE = 40
 acceleration stays within Subset-026's A_est2 cap of 0.4 m/s^2, which the closed loop's plant assumes."""
 MAX_CYCLE_S = 1
 """The longest ATP cycle accepted (s)."""
+MAX_RANGE_CELLS = 64
+"""The finest split of one range: at most this many cells of its resolution."""
 
 NATIONAL_PRESETS = {"subset026": subset026_national, "seed002": seed002_national}
 """The national values a configuration may start from: Subset-026's defaults (Appendix A.3.2), seed 002's."""
@@ -55,10 +60,44 @@ FIELDS = {
     "": ("name", "national", "atp", "trains", "lines"),
     "national": ("preset", *_NATIONAL_FIELDS),
     "atp": ("cycle_s",),
-    "trains": ("file", "preset"),
+    "trains": ("file", "preset", "ranges"),
+    "ranges": ("min", "max", "resolution"),
     "lines": ("name", "length_m", "speed_limits", "gradients"),
 }
 """The fields of each table of a configuration (docs/configuration.md documents each)."""
+
+
+RANGE_FIELDS = {
+    "t_be_s": "T_be, the emergency brake's build-up time (s)",
+    "t_traction_s": "T_traction, the traction cut-off time (s)",
+    "emergency_deceleration_scale": "a factor on every step of A_brake_emergency (1 is the train's own)",
+    "service_deceleration_scale": "a factor on every step of A_brake_service (1 is the train's own)",
+    "max_acceleration_mps2": "A_max, the train's maximum acceleration (m/s^2)",
+    "v_ura_mps": "V_ura, the speed measurement's uncertainty (m/s)",
+    "rotating_mass_uphill_percent": "M_rotating's bound for an uphill gradient (%)",
+    "rotating_mass_downhill_percent": "M_rotating's bound for a downhill gradient (%)",
+}
+"""The train data a configuration may give as a range (``[trains.ranges]``), each with what it is."""
+
+
+@dataclass(frozen=True)
+class DataRange:
+    """A range of one of :data:`RANGE_FIELDS`: every value in ``[min, max]``, split down to cells no wider than
+    ``resolution``."""
+
+    field: str
+    min: Fraction
+    max: Fraction
+    resolution: Fraction
+
+
+def train_with(train: TrainData, field: str, value) -> TrainData:
+    """``train`` with the range field ``field`` at ``value`` (a scale multiplies every step of the brake)."""
+    if field.endswith("_deceleration_scale"):
+        brake = field.removesuffix("_deceleration_scale")
+        key = f"{brake}_decelerations_mps2"
+        return dataclasses.replace(train, **{key: tuple(a * value for a in getattr(train, key))})
+    return dataclasses.replace(train, **{field: value})
 
 
 class ConfigurationError(AtcsInputError):
@@ -79,6 +118,8 @@ class ConfiguredTrain:
     national: NationalData
     rail: RailTrain | None
     """The train data file's train, None for a preset."""
+    ranges: tuple[DataRange, ...] = ()
+    """The train data given as ranges: the properties are proved for every value in them."""
 
 
 @dataclass(frozen=True)
@@ -157,13 +198,39 @@ def _line(source: str, table, index: int) -> Line:
     )
 
 
+def _ranges(source: str, r: _Reader, t: ConfiguredTrain) -> tuple[DataRange, ...]:
+    """``[trains.ranges]``: ``field = { min, max, resolution }`` for fields of :data:`RANGE_FIELDS`; the train data
+    must be valid at both ends of each range."""
+    table = r.table.get("ranges", {})
+    ranges = _Reader(source, table, r.name("ranges"), tuple(RANGE_FIELDS))
+    found = []
+    for field in table:
+        c = _Reader(source, table[field], ranges.name(field), FIELDS["ranges"])
+        low, high = c.number("min", minimum=0), c.number("max", minimum=0)
+        if high <= low:
+            c.fail("max", f"must be above min ({low})")
+        resolution = c.number("resolution", positive=True)
+        if resolution > high - low:
+            c.fail("resolution", f"must be at most max - min ({high - low})")
+        if resolution < (high - low) / MAX_RANGE_CELLS:
+            c.fail("resolution", f"splits the range into more than {MAX_RANGE_CELLS} cells")
+        for key, value in (("min", low), ("max", high)):
+            try:
+                validate(train_with(t.train, field, value), t.national)
+            except TrainDataError as exc:
+                c.fail(key, f"makes the train data invalid: {exc}")
+        found.append(DataRange(field, low, high, resolution))
+    return tuple(found)
+
+
 def _train(source: str, table, index: int, national: NationalData) -> ConfiguredTrain:
     r = _Reader(source, table, f"trains[{index}]", FIELDS["trains"])
     if ("file" in r.table) == ("preset" in r.table):
         raise ConfigurationError(f"{source}: trains[{index}]: give exactly one of file (a train data file) or preset")
     if "preset" in r.table:
         name = r.text("preset", choices=tuple(PRESETS))
-        return ConfiguredTrain(name, PRESETS[name][0](), national, None)
+        t = ConfiguredTrain(name, PRESETS[name][0](), national, None)
+        return dataclasses.replace(t, ranges=_ranges(source, r, t))
     path = Path(r.text("file"))
     if not path.is_absolute():
         path = Path(source).parent / path
@@ -171,7 +238,8 @@ def _train(source: str, table, index: int, national: NationalData) -> Configured
         rail = load_train(path)
     except TrainDataError as exc:
         raise ConfigurationError(f"{source}: trains[{index}].file: {exc}") from None
-    return ConfiguredTrain(rail.name, curve_train_data(rail, national, 0), curve_national_data(rail, national, 0), rail)
+    t = ConfiguredTrain(rail.name, curve_train_data(rail, national, 0), curve_national_data(rail, national, 0), rail)
+    return dataclasses.replace(t, ranges=_ranges(source, r, t))
 
 
 def load_configuration(path: str | Path) -> Configuration:

@@ -79,9 +79,16 @@ def write_witnesses(directory: str | Path, prop: Property, result: Result) -> Pa
 
 
 def json_report(
-    records: list[dict], *, timeout_s: float, wall_s: float, configuration: str | None = None, not_covered=()
+    records: list[dict],
+    *,
+    timeout_s: float,
+    wall_s: float,
+    configuration: str | None = None,
+    not_covered=(),
+    envelopes: list[dict] | None = None,
 ) -> str:
-    """The report of ``atcs prove``; with ``--config``, the configuration file and what it does not cover."""
+    """The report of ``atcs prove``; with ``--config``, the configuration file and what it does not cover, and the
+    map of each property proved over ranges of train data (:func:`atcs.proofs.envelope.map_json`)."""
     counts = {s: sum(r["status"] == s for r in records) for s in Status}
     doc = {
         "tool": "atcs",
@@ -92,6 +99,8 @@ def json_report(
     }
     if configuration is not None:
         doc |= {"configuration": configuration, "not_covered": list(not_covered)}
+    if envelopes is not None:
+        doc["envelopes"] = envelopes
     return json.dumps(doc, indent=2) + "\n"
 
 

@@ -40,7 +40,9 @@ __all__ = [
     "compensated_gradients",
     "configuration_gaps",
     "configuration_properties",
+    "curve_family",
     "gradient_transitions",
+    "loop_family",
 ]
 
 
@@ -78,20 +80,21 @@ def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], .
 
 
 def _train_line(config: Configuration, t: ConfiguredTrain, line: Line) -> tuple[Property, ...]:
-    tag = f"{_slug(t.name)}_{_slug(line.name)}"
+    return curve_family(config, t, line) + loop_family(config, t, line)
+
+
+def curve_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:
+    """The curve properties of train ``t`` on ``line`` (module docstring), with ``train``'s data in place of the
+    train's own when given, and ``suffix`` after the train and line in their names."""
+    train = t.train if train is None else train
+    tag = f"{_slug(t.name)}_{_slug(line.name)}{suffix}"
     guidance = None if t.rail is None else guidance_data(t.rail)
     guidance = None if guidance is None else as_dict(guidance)
-    curve_data = {**as_dict(t.train), **as_dict(t.national)}
-    rounded = whole_cycle_train(t.train, config.cycle_s)
-    loop_data = preset_data(rounded, t.national, config.cycle_s)
+    curve_data = {**as_dict(train), **as_dict(t.national)}
+    compensated = compensated_gradients(line, train.train_length_m)
     props = []
-    compensated = compensated_gradients(line, t.train.train_length_m)
     for j, pair in enumerate(gradient_transitions(compensated)):
         props += curve_properties(f"{tag}_{j}", {**curve_data, "gradient_permille": pair}, guidance)
-        if not closed_loop_gap(t):
-            fixed = {**loop_data, "gradient_permille": pair}
-            loop_node = sized_node(CLOSED_LOOP, fixed)
-            props += [dataclasses.replace(p, node=loop_node) for p in closed_loop_properties(f"{tag}_{j}", fixed)]
     whole = {
         **curve_data,
         "gradient_starts_m": compensated.starts_m,
@@ -99,6 +102,22 @@ def _train_line(config: Configuration, t: ConfiguredTrain, line: Line) -> tuple[
         "line_end_m": compensated.end_m,
     }
     props += [p for p in curve_properties(f"{tag}_whole", whole) if p.requirement == "CRV-08"]
+    return tuple(props)
+
+
+def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:
+    """The closed-loop theorems of train ``t`` on ``line`` (module docstring; none when :func:`closed_loop_gap`
+    says why), with ``train``'s data and ``suffix`` as :func:`curve_family`."""
+    if closed_loop_gap(t):
+        return ()
+    train = t.train if train is None else train
+    tag = f"{_slug(t.name)}_{_slug(line.name)}{suffix}"
+    loop_data = preset_data(whole_cycle_train(train, config.cycle_s), t.national, config.cycle_s)
+    props = []
+    for j, pair in enumerate(gradient_transitions(compensated_gradients(line, train.train_length_m))):
+        fixed = {**loop_data, "gradient_permille": pair}
+        loop_node = sized_node(CLOSED_LOOP, fixed)
+        props += [dataclasses.replace(p, node=loop_node) for p in closed_loop_properties(f"{tag}_{j}", fixed)]
     return tuple(props)
 
 

@@ -14,6 +14,7 @@ from rich.table import Table
 
 from atcs.proofs.cli._common import (
     EXIT_INTERRUPTED,
+    UsageError,
     add_jobs,
     add_only,
     check_outputs,
@@ -46,6 +47,18 @@ def add_parser(subparsers) -> None:
         metavar="DIR",
         help="keep proved verdicts here and reuse those whose property, data and imported sources are unchanged "
         "(docs/commands.md)",
+    )
+    p.add_argument(
+        "--map",
+        metavar="DIR",
+        help="with --config and a train with ranges: write the envelope's map there (map.json, and a PNG of each "
+        "2-D slice, docs/configuration.md)",
+    )
+    p.add_argument(
+        "--ray",
+        metavar="ADDRESS",
+        help="prove the cells of ranges on Ray: 'auto' starts a local cluster of --jobs CPUs, an address joins a "
+        "running one (needs pip install 'atcs[cluster]'); without it, local worker processes",
     )
     p.add_argument("--json", metavar="FILE", help="write the JSON report here")
     p.add_argument("--junit", metavar="FILE", help="write a JUnit XML report here")
@@ -100,10 +113,15 @@ def run(args, out, err) -> int:
     props = selected_properties("prove", args.only, configured)
     check_outputs(
         files={"--json": args.json, "--junit": args.junit, "--catalogue": args.catalogue},
-        dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir, "--cache": args.cache},
+        dirs={"--cex-dir": args.cex_dir, "--witness-dir": args.witness_dir, "--cache": args.cache, "--map": args.map},
     )
+    ranged = _ranged(args)
     start = time.monotonic()
-    results = _prove_or_reuse(props, configured, args, out, err)
+    results = _prove_or_reuse([p for p in props if p.name not in ranged], configured, args, out, err)
+    maps, envelope_results = {}, {}
+    if len(results) == len(props) - len([p for p in props if p.name in ranged]):
+        maps, envelope_results = _envelopes([p.name for p in props if p.name in ranged], args, err)
+        results |= envelope_results
     wall = time.monotonic() - start
     if len(results) < len(props):  # interrupted: what was proved so far, and nothing written
         _print(out, [report.result_record(p, results[p.name], None) for p in props if p.name in results], wall)
@@ -120,11 +138,17 @@ def run(args, out, err) -> int:
             report.write_witnesses(args.witness_dir, prop, result)
         records.append(report.result_record(prop, result, cex))
     _print(out, records, wall)
+    envelopes = _write_maps(maps, args, out) if maps else None
     if args.json:
         write_atomic(
             args.json,
             report.json_report(
-                records, timeout_s=args.timeout, wall_s=wall, configuration=args.config, not_covered=gaps
+                records,
+                timeout_s=args.timeout,
+                wall_s=wall,
+                configuration=args.config,
+                not_covered=gaps,
+                envelopes=envelopes,
             ),
         )
     if args.junit:
@@ -171,6 +195,81 @@ def _prove_or_reuse(props: list, configured: dict | None, args, out, err) -> dic
         if prop.name in results:
             cache.put(prop, results[prop.name])
     return {**reused, **results}
+
+
+def _ranged(args) -> set[str]:
+    """The names of the configuration's properties proved over ranges of train data (none without one)."""
+    if args.config is None:
+        if args.map or args.ray:
+            raise UsageError(f"{'--map' if args.map else '--ray'} needs --config (a configuration with ranges)")
+        return set()
+    from atcs.model.configuration import load_configuration
+    from atcs.proofs.envelope import envelope_properties
+
+    ranged = set(envelope_properties(load_configuration(args.config)))
+    if not ranged and (args.map or args.ray):
+        raise UsageError(f"{'--map' if args.map else '--ray'}: {args.config} gives no train a range of train data")
+    return ranged
+
+
+def _envelopes(names: list[str], args, err) -> tuple[dict, dict]:
+    """The map of each property proved over ranges, and its verdict as a result (the worst cell's)."""
+    from atcs.proofs.engine.prove import Result
+    from atcs.proofs.envelope import sweep
+    from atcs.proofs.envelope.executors import RayUnavailable, local_executor, ray_executor
+
+    if not names:
+        return {}, {}
+    executor = ray_executor(args.ray, args.jobs) if args.ray else local_executor(args.jobs)
+    maps = {}
+    with progress_bar(err, "proving cells", None) as bar:
+        try:
+            with executor as tasks:
+                maps = sweep(
+                    args.config,
+                    names,
+                    timeout_s=args.timeout,
+                    executor=tasks,
+                    cache_dir=args.cache,
+                    on_cell=lambda name, c: bar.done(
+                        f"{name} [{c.cell.describe()}]: {c.status}",
+                        f"{c.status} {name} [{c.cell.describe()}] ({c.seconds:.1f} s)",
+                    ),
+                )
+        except KeyboardInterrupt:
+            return {}, {}
+        except RayUnavailable as exc:
+            raise UsageError(str(exc)) from None
+    results = {}
+    for name, m in maps.items():
+        failing = next((c.failing for c in m.cells if c.status == m.status and c.failing is not None), None)
+        message = m.describe() + (f"; {failing.name}: {failing.message}" if failing is not None else "")
+        results[name] = Result(name, m.requirement, m.status, "envelope", None, m.seconds, message)
+    return maps, results
+
+
+def _write_maps(maps: dict, args, out) -> list[dict]:
+    """Counterexample files of the falsified cells, the map's JSON and plots (with ``--map``); the JSON entries."""
+    from atcs.model.configuration import load_configuration
+    from atcs.proofs import report
+    from atcs.proofs.envelope import map_json, write_map
+    from atcs.proofs.envelope.sweep import cell_proofs
+
+    config = load_configuration(args.config)
+    counterexamples = {}
+    for name, m in maps.items():
+        for c in m.cells:
+            failing = c.failing
+            if c.status == "falsified" and failing is not None and failing.replay is not None:
+                prop = next(p for p, _ in cell_proofs(config, name, c.cell) if p.name == failing.name)
+                counterexamples[(name, c.cell.id)] = str(report.write_counterexample(args.cex_dir, prop, failing))
+    entries = map_json(maps, counterexamples)
+    for m in maps.values():
+        out.print(f"envelope {m.name}: [{STYLE[m.status]}]{m.status}[/] ({m.describe()})")
+    if args.map:
+        for path in write_map(maps, counterexamples, args.map):
+            out.print(f"map: {path}")
+    return entries
 
 
 def _prove_all(props: list, args, err) -> dict:
