@@ -78,7 +78,7 @@ def fingerprint(prop, registry: dict, _seen: tuple[str, ...] = ()) -> str:
         prop.name,
         prop.requirement,
         prop.text,
-        repr([a.name for a in prop.assumptions]),
+        repr([(a.name, a.text) for a in prop.assumptions]),
         node.name,
         repr(sorted(node.sizes.items())),
         repr(sorted((k, repr(v)) for k, v in prop.fixed_params.items())),

@@ -1,0 +1,71 @@
+"""Envelopes on Ray (docs/configuration.md "On Ray"): a local cluster gives the same map as local worker processes,
+a worker killed mid-sweep loses and duplicates no verdict, and ``--ray`` without Ray says how to install it."""
+
+import os
+import signal
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from atcs.model.configuration import load_configuration
+from atcs.proofs.cli import main
+from atcs.proofs.cli._common import EXIT_USAGE
+from atcs.proofs.envelope import sweep
+from atcs.proofs.envelope.executors import RAY_INSTALL, local_executor, ray_executor
+from atcs.proofs.envelope.sweep import envelope_properties
+
+CONFIG = str(Path(__file__).parents[3] / "model" / "configurations" / "envelope.toml")
+
+
+def _names() -> list[str]:
+    """The envelope's curve properties but CRV-01 (which takes minutes over the whole box)."""
+    names = envelope_properties(load_configuration(CONFIG))
+    return [n for n in names if n.startswith("curves.") and not n.startswith("curves.order")]
+
+
+def _verdicts(maps) -> dict:
+    return {name: [(c.cell, c.status) for c in m.cells] for name, m in maps.items()}
+
+
+def _kill_one_running_task(killed: list) -> None:
+    """SIGKILL the first Ray worker seen running a cell (its process title ``ray::prove_cell``)."""
+    deadline = time.monotonic() + 120
+    while not killed and time.monotonic() < deadline:
+        for pid in filter(str.isdigit, os.listdir("/proc")):
+            try:
+                title = Path(f"/proc/{pid}/cmdline").read_bytes()
+            except OSError:
+                continue
+            if title.startswith(b"ray::prove_cell"):
+                os.kill(int(pid), signal.SIGKILL)
+                killed.append(int(pid))
+                return
+        time.sleep(0.01)
+
+
+@pytest.mark.slow
+def test_ray_gives_the_same_map_as_local_workers_even_with_a_worker_killed():
+    names = _names()
+    with local_executor(2) as tasks:
+        local = sweep(CONFIG, names, timeout_s=300, executor=tasks)
+    killed: list = []
+    seen: list = []
+    with ray_executor("auto", 2) as tasks:
+        hunter = threading.Thread(target=_kill_one_running_task, args=(killed,), daemon=True)
+        hunter.start()
+        on_ray = sweep(CONFIG, names, timeout_s=300, executor=tasks, on_cell=lambda name, c: seen.append(name))
+        hunter.join()
+    assert killed, "no worker was running a cell to kill"
+    assert _verdicts(on_ray) == _verdicts(local)
+    assert sorted(seen) == sorted(names)  # each verdict once: none lost, none duplicated
+    assert {m.status for m in local.values()} == {"proved"}
+
+
+def test_ray_missing_is_a_usage_error_naming_the_install(monkeypatch, capsys, tmp_path):
+    monkeypatch.setitem(sys.modules, "ray", None)  # import ray raises ImportError
+    argv = ["prove", "--config", CONFIG, "--only", "curves.spacing_*", "--ray", "auto"]
+    assert main([*argv, "--cex-dir", str(tmp_path)]) == EXIT_USAGE
+    assert f"--ray needs Ray, which is not installed: {RAY_INSTALL}" in capsys.readouterr().err
