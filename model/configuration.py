@@ -61,7 +61,7 @@ FIELDS = {
     "national": ("preset", *_NATIONAL_FIELDS),
     "atp": ("cycle_s",),
     "trains": ("file", "preset", "ranges"),
-    "ranges": ("min", "max", "resolution"),
+    "trains.ranges": ("min", "max", "resolution"),
     "lines": ("name", "length_m", "speed_limits", "gradients"),
 }
 """The fields of each table of a configuration (docs/configuration.md documents each)."""
@@ -205,7 +205,7 @@ def _ranges(source: str, r: _Reader, t: ConfiguredTrain) -> tuple[DataRange, ...
     ranges = _Reader(source, table, r.name("ranges"), tuple(RANGE_FIELDS))
     found = []
     for field in table:
-        c = _Reader(source, table[field], ranges.name(field), FIELDS["ranges"])
+        c = _Reader(source, table[field], ranges.name(field), FIELDS["trains.ranges"])
         low, high = c.number("min", minimum=0), c.number("max", minimum=0)
         if high <= low:
             c.fail("max", f"must be above min ({low})")
