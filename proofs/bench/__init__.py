@@ -26,6 +26,7 @@ from atcs.model.restrictions import SpeedRestrictions, as_float, canonical
 from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionParams, SupervisionState
 from atcs.proofs.bench.cycle import bench_cycle
 from atcs.proofs.bench.sim import bench_sim
+from atcs.proofs.bench.sweep import bench_sweep
 
 CYCLE_S = 0.1  # one ATP cycle (seed 001)
 
@@ -222,6 +223,7 @@ BENCHMARKS: dict[str, Callable[..., object]] = {
     "mrsp": bench_mrsp,
     "cycle": bench_cycle,
     "sim": bench_sim,
+    "sweep": bench_sweep,
 }
 
 

@@ -69,3 +69,20 @@ def test_ray_missing_is_a_usage_error_naming_the_install(monkeypatch, capsys, tm
     argv = ["prove", "--config", CONFIG, "--only", "curves.spacing_*", "--ray", "auto"]
     assert main([*argv, "--cex-dir", str(tmp_path)]) == EXIT_USAGE
     assert f"--ray needs Ray, which is not installed: {RAY_INSTALL}" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_the_sweep_benchmark_checks_the_three_ways_agree():
+    from rich.console import Console
+
+    from atcs.proofs.bench.sweep import bench_sweep, sweep_tasks
+
+    tasks = [t for t in sweep_tasks() if t[0].startswith("curves.spacing")][:2]
+    console = Console(record=True, width=160)
+    results = bench_sweep(console, tasks)
+    assert set(results) == {
+        f"{way} {what}"
+        for way in ("this process", "local worker processes (2)", "Ray, local cluster (2 CPUs)")
+        for what in ("cells_per_minute", "startup_s")
+    }
+    assert console.export_text().count("same verdicts") == 3
