@@ -3,8 +3,9 @@ a local Ray cluster, measured side by side in one run on the same cells, with th
 
 The cells are those of ``model/configurations/envelope.toml`` (the Gamma train, its emergency brake scale and
 T_be as ranges): its curve properties but CRV-01 (which takes minutes on the whole box) on each cell of the
-ranges split twice (a 2 x 2 grid), every cell proved for all of its values. Ray's start-up (its local cluster) is timed apart
-from the cells; spawned worker processes start with their first cell, so theirs is in the cells' time.
+ranges split twice (a 2 x 2 grid), every cell proved for all of its values. Ray's start-up (its local cluster)
+is timed apart from the cells; spawned worker processes start with their first cell, so theirs is in the
+cells' time.
 """
 
 from __future__ import annotations
