@@ -45,6 +45,7 @@ def add_parser(subparsers) -> None:
         help="a function (node) of the model; repeat for several (default: every one)",
     )
     g.add_argument("--out", metavar="DIR", default="vectors", help="where the files go (default ./vectors)")
+    _add_config(g, "the functions of this configuration's properties, in the environments of its trains and lines")
     g.add_argument(
         "--timeout",
         metavar="SECONDS",
@@ -63,6 +64,7 @@ def add_parser(subparsers) -> None:
     g.set_defaults(run=generate)
     y = vsub.add_parser("verify", help="re-check vector files against the model (hashes, symbolic and exact)")
     y.add_argument("dir", metavar="DIR")
+    _add_config(y, "the configuration the vectors were made for (vectors generate --config)")
     y.set_defaults(run=verify)
     k = vsub.add_parser("check", help="run an external implementation over the vectors (JSON lines)")
     k.add_argument("dir", metavar="DIR")
@@ -73,6 +75,7 @@ def add_parser(subparsers) -> None:
         help="the implementation's command line: one JSON request per line in, one answer per line out",
     )
     k.add_argument("--function", metavar="NAME", action="append", help="only this function's file (repeatable)")
+    _add_config(k, "the configuration the vectors were made for (vectors generate --config)")
     k.add_argument(
         "--rel-tol",
         metavar="X",
@@ -97,15 +100,30 @@ def add_parser(subparsers) -> None:
     k.set_defaults(run=check)
 
 
-def _functions(command: str, names: list[str] | None) -> list[str]:
+def _add_config(parser, what: str) -> None:
+    parser.add_argument("--config", metavar="FILE", help=f"{what} (docs/configuration.md)")
+
+
+def _configured(path: str | None) -> dict | None:
+    """The nodes of the configuration at ``path`` with its properties (None without one)."""
+    if path is None:
+        return None
+    from atcs.proofs.engine.suite import configured_nodes
+
+    return configured_nodes(path)
+
+
+def _functions(command: str, names: list[str] | None, configured: dict | None = None) -> list[str]:
     from atcs.model import NODES
 
+    known = NODES if configured is None else configured
     for name in names or ():
-        if name not in NODES:
+        if name not in known:
+            what = "the model" if configured is None else "the configuration's properties"
             raise UsageError(
-                f"vectors {command}: --function {name!r} is not a function of the model (functions: {', '.join(NODES)})"
+                f"vectors {command}: --function {name!r} is not a function of {what} (functions: {', '.join(known)})"
             )
-    return list(dict.fromkeys(names)) if names else list(NODES)
+    return list(dict.fromkeys(names)) if names else list(known)
 
 
 @dataclass
@@ -146,23 +164,30 @@ class _Generated:
         )
 
 
-def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float) -> _Generated:
-    """One function's vectors, written to ``out_dir`` (module level: a worker process runs it); none, and the
-    reason in ``errors``, if its step cannot be built."""
+def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float, config: str | None = None) -> _Generated:
+    """One function's vectors, written to ``out_dir`` (module level: a worker process runs it), in the
+    environments of the registered properties or of the configuration ``config``'s; none, and the reason in
+    ``errors``, if its step cannot be built."""
     from atcs.model import NODES
+    from atcs.proofs.engine.suite import configuration_data_sha256
     from atcs.proofs.vectors import files
     from atcs.proofs.vectors.generate import StepBuildError
     from atcs.proofs.vectors.generate import generate as generate_vectors
     from atcs.properties import PROPERTIES
 
-    node = NODES[name]
+    if config is None:
+        node, props, made_for = NODES[name], tuple(p for p in PROPERTIES.values() if p.node is NODES[name]), None
+    else:
+        from atcs.model.configuration import load_configuration
+
+        node, props = _configured(config)[name]
+        made_for = {"name": load_configuration(config).name, "data_sha256": configuration_data_sha256(props)}
     start = time.monotonic()
     try:
-        fv = generate_vectors(
-            node, tuple(p for p in PROPERTIES.values() if p.node is node), timeout_s=timeout_s, budget_s=budget_s
-        )
+        fv = generate_vectors(node, props, timeout_s=timeout_s, budget_s=budget_s)
     except StepBuildError as exc:
         return _Generated(name, seconds=time.monotonic() - start, errors=[str(exc)])
+    fv.configuration = made_for
     files.write(out_dir, fv)
     return _Generated(
         name, len(fv.vectors), fv.coverage(), fv.requirements, fv.requirements_covered(), fv.seconds, fv.errors
@@ -170,10 +195,10 @@ def _generate_one(name: str, out_dir: str, timeout_s: float, budget_s: float) ->
 
 
 def generate(args, out, err) -> int:
-    names = _functions("generate", args.function)
+    names = _functions("generate", args.function, _configured(args.config))
     check_outputs(dirs={"--out": args.out})
     start = time.monotonic()
-    rows = _generate_all([(n, args.out, args.timeout, args.budget) for n in names], args.jobs, err)
+    rows = _generate_all([(n, args.out, args.timeout, args.budget, args.config) for n in names], args.jobs, err)
     table = Table(
         title=f"atcs vectors generate: {len(rows)} functions in {time.monotonic() - start:.1f} s ({args.out})"
     )
@@ -207,7 +232,7 @@ def _generate_all(jobs: list[tuple], workers: int, err) -> list[_Generated]:
     return rows
 
 
-def _vector_files(command: str, directory: str, names: list[str] | None = None) -> list:
+def _vector_files(command: str, directory: str, names: list[str] | None = None, configured=None) -> list:
     from atcs.proofs.vectors.files import VectorFileError, read
 
     root = Path(directory)
@@ -215,21 +240,22 @@ def _vector_files(command: str, directory: str, names: list[str] | None = None) 
         raise UsageError(f"vectors {command}: {directory} is not a directory")
     paths = sorted(root.glob("*.json"))
     if names:
-        paths = [p for p in paths if p.stem in set(_functions(command, names))]
+        paths = [p for p in paths if p.stem in set(_functions(command, names, configured))]
     if not paths:
         raise UsageError(f"vectors {command}: {directory} holds no vector file (<function>.json)")
     if command == "verify":
         return paths
     with reraised(f"vectors {command}: ", VectorFileError):
-        return [read(p) for p in paths]
+        return [read(p, configured) for p in paths]
 
 
 def verify(args, out, err) -> int:
     from atcs.proofs.vectors.files import VectorFileError
     from atcs.proofs.vectors.verify import verify_file
 
+    configured = _configured(args.config)
     with reraised("vectors verify: ", VectorFileError):
-        results = [verify_file(path) for path in _vector_files("verify", args.dir)]
+        results = [verify_file(path, configured) for path in _vector_files("verify", args.dir)]
     table = Table(title=f"atcs vectors verify {args.dir}")
     for heading in ("file", "function", "vectors", "verdict"):
         table.add_column(heading)
@@ -251,7 +277,7 @@ def check(args, out, err) -> int:
     from atcs.proofs.vectors.check import ImplementationError, ImplementationStartError
     from atcs.proofs.vectors.check import check as check_implementation
 
-    files = _vector_files("check", args.dir, args.function)
+    files = _vector_files("check", args.dir, args.function, _configured(args.config))
     try:
         with reraised("vectors check: ", ImplementationStartError):
             outcomes = check_implementation(

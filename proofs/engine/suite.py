@@ -33,6 +33,30 @@ def configured_registry(path: str | None) -> dict[str, Property]:
     return {**PROPERTIES, **{p.name: p for p in configuration_properties(load_configuration(path))}}
 
 
+def configured_nodes(path: str) -> dict[str, tuple]:
+    """The nodes of the configuration's properties by name, each with those properties (for ``atcs vectors
+    generate --config``: vectors in the environments of the user's data)."""
+    from atcs.model.configuration import load_configuration
+    from atcs.properties.configured import configuration_properties
+
+    nodes: dict[str, tuple] = {}
+    for p in configuration_properties(load_configuration(path)):
+        node, props = nodes.get(p.node.name, (p.node, ()))
+        nodes[p.node.name] = (node, (*props, p))
+    return nodes
+
+
+def configuration_data_sha256(props) -> str:
+    """SHA-256 of what a configuration gives a node's properties: their names, fixed data and assumptions."""
+    import hashlib
+
+    digest = hashlib.sha256()
+    for p in props:
+        fixed = sorted((k, repr(v)) for k, v in p.fixed_params.items())
+        digest.update(repr((p.name, fixed, [a.text for a in p.assumptions])).encode())
+    return digest.hexdigest()
+
+
 def _prove_registered(
     name: str,
     timeout_s: float,

@@ -155,6 +155,8 @@ def document(fv: FunctionVectors) -> tuple[dict[str, Any], str]:
         "csv_sha256": hashlib.sha256(csv_text.encode()).hexdigest(),
         "generation_s": round(fv.seconds, 3),
     }
+    if fv.configuration is not None:
+        manifest["configuration"] = fv.configuration
     return {"format": FORMAT, "manifest": manifest, "goals": goals, "vectors": vectors}, csv_text
 
 
@@ -193,8 +195,10 @@ def parse_record(path, where: str, raw: Any, sorts: dict[str, Sort]) -> dict[str
     return trace.parse_record(str(path), where, raw, sorts, VectorFileError)
 
 
-def read(path: str | Path) -> VectorFile:
-    """Read a vector file; a malformed one raises :class:`VectorFileError` naming the file, field and value."""
+def read(path: str | Path, configured: dict | None = None) -> VectorFile:
+    """Read a vector file; a malformed one raises :class:`VectorFileError` naming the file, field and value. A file
+    of a configuration's vectors (its manifest names one) needs the configuration's nodes, ``configured``
+    (:func:`~atcs.proofs.engine.suite.configured_nodes`)."""
     from atcs.model import NODES
 
     path = Path(path)
@@ -211,11 +215,19 @@ def read(path: str | Path) -> VectorFile:
     for key in ("function", "model_sha256", "content_sha256", "csv_sha256"):
         _need(path, f"manifest.{key}", manifest.get(key), str, "a string")
     function = manifest["function"]
-    if function not in NODES:
+    made_for = manifest.get("configuration")
+    if made_for is not None:
+        _need(path, "manifest.configuration", made_for, dict, "an object")
+        name = _need(path, "manifest.configuration.name", made_for.get("name"), str, "a string")
+        _need(path, "manifest.configuration.data_sha256", made_for.get("data_sha256"), str, "a string")
+        if configured is None:
+            raise VectorFileError(f"{path}: made for the configuration {name!r}: give it with --config FILE")
+    nodes = {n: node for n, (node, _) in configured.items()} if made_for is not None else NODES
+    if function not in nodes:
         raise VectorFileError(
-            f"{path}: manifest.function names no function of the model: {function!r} (functions: {', '.join(NODES)})"
+            f"{path}: manifest.function names no function of the model: {function!r} (functions: {', '.join(nodes)})"
         )
-    node = NODES[function]
+    node = nodes[function]
     goals = _need(path, "field 'goals'", doc.get("goals"), list, "a list")
     raw = _need(path, "field 'vectors'", doc.get("vectors"), list, "a list")
     result = VectorFile(path, node, manifest, goals, raw)

@@ -86,6 +86,8 @@ class FunctionVectors:
     seconds: float = 0.0
     errors: list[str] = field(default_factory=list)
     """The properties that could not be built, one line each: ``<property>: <why>`` (their goals are unknown)."""
+    configuration: dict | None = None
+    """For vectors of a configuration's properties: its ``name`` and ``data_sha256`` (the manifest's)."""
 
     def coverage(self) -> dict[str, dict[str, int]]:
         """Per kind of goal: how many there are and how many are covered, infeasible or unknown."""

@@ -214,14 +214,26 @@ def _check_mcdc_pairs(
             )
 
 
-def verify_file(path: str | Path) -> Verified:
-    """Re-check one vector file (see the module docstring); raises VectorFileError if it is malformed."""
+def verify_file(path: str | Path, configured: dict | None = None) -> Verified:
+    """Re-check one vector file (see the module docstring), a configuration's with its nodes ``configured``
+    (:func:`~atcs.proofs.engine.suite.configured_nodes`: the properties are the configuration's, and their data
+    must be those the vectors were made with); raises VectorFileError if it is malformed."""
+    from atcs.proofs.engine.suite import configuration_data_sha256
     from atcs.properties import PROPERTIES
 
-    vf = read(path)
+    vf = read(path, configured)
     result = Verified(vf.path, vf.node.name, len(vf.vectors))
     _check_hashes(vf, result.problems)
-    props = tuple(p for p in PROPERTIES.values() if p.node is vf.node)
+    made_for = vf.manifest.get("configuration")
+    if made_for is None:
+        props = tuple(p for p in PROPERTIES.values() if p.node is vf.node)
+    else:
+        props = configured[vf.node.name][1]
+        if configuration_data_sha256(props) != made_for["data_sha256"]:
+            result.problems.append(
+                f"the configuration's data for {vf.node.name} changed since the vectors were made "
+                f"(manifest.configuration.data_sha256 {made_for['data_sha256'][:12]}...)"
+            )
     ev = _Evaluator(StepFrame(vf.node, props))
     for v in vf.vectors:
         _check_vector(vf, ev, v, result.problems)
