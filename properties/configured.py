@@ -21,19 +21,22 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import re
+from dataclasses import dataclass
 from fractions import Fraction
 
 from atcs.model.braking_data import guidance_data
-from atcs.model.closed_loop import CLOSED_LOOP
+from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopParams, whole_cycles, worst_acceleration_mps2
 from atcs.model.configuration import Configuration, ConfiguredTrain, Line
+from atcs.model.curves import CURVES, Target, bec_speed_and_distance, curve_gradient, curve_target, ebd_speed2_at
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
-from atcs.model.profile import Profile
+from atcs.model.plant import plant_gradient
+from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import extend_by_train_length
 from atcs.model.train_data import preset_data, whole_cycle_train
-from atcs.properties.closed_loop import closed_loop_properties
+from atcs.properties.closed_loop import ceiling_margin_mps, closed_loop_properties, ebi_ceiling_mps
 from atcs.properties.curves import curve_properties, sized_node
-from atcs.properties.property import Property
+from atcs.properties.property import Assumption, Property
 
 __all__ = [
     "closed_loop_gap",
@@ -105,19 +108,159 @@ def curve_family(config: Configuration, t: ConfiguredTrain, line: Line, train=No
     return tuple(props)
 
 
+@dataclass(frozen=True)
+class Window:
+    """A window of a line for the closed loop (docs/configuration.md "Windows"): the closed-loop theorems for an
+    end of authority in ``[eoa_from_m, eoa_to_m]`` are proved on ``profile``, which is the line's compensated
+    profile from ``start_m`` to ``eoa_to_m`` and its steepest downhill elsewhere; ``speed_cap_mps`` bounds every
+    speed the ATP computes a curve location for (the measured speed, and V_bec, at the ceiling of the line's top
+    speed limit plus the closed loop's margin)."""
+
+    index: int
+    eoa_from_m: Fraction
+    eoa_to_m: Fraction
+    start_m: Fraction
+    profile: Profile
+    speed_cap_mps: Fraction
+
+
+def _merged(starts, values, end_m) -> Profile:
+    kept_starts, kept_values = [], []
+    for start, value in zip(starts, values, strict=True):
+        if not (kept_values and kept_values[-1] == value):
+            kept_starts.append(start)
+            kept_values.append(value)
+    return Profile(tuple(kept_starts), tuple(kept_values), end_m)
+
+
+def _loop_params(loop_data: dict, line: Line, profile: Profile, eoa_m):
+    """The closed loop's parameters with the line's top speed limit as the MRSP and no odometry error."""
+    values = {
+        **loop_data,
+        "gradient_starts_m": profile.starts_m,
+        "gradient_permille": profile.values,
+        "line_end_m": profile.end_m,
+        "mrsp_mps": max(line.speed_limits.values),
+        "eoa_m": eoa_m,
+        "position_error_m": Fraction(0),
+    }
+    return ClosedLoopParams(**values)
+
+
+def speed_cap_mps(loop_data: dict, line: Line, profile: Profile) -> Fraction:
+    """The highest speed the ATP computes a curve location for on ``line`` (:class:`Window`): V_bec at the
+    measured speed ``MRSP + dV_ebi + the closed loop's margin + V_ura``, the MRSP the line's top speed limit."""
+    p = _loop_params(loop_data, line, profile, Fraction(0))
+    n_t, n_be = whole_cycles("window", loop_data)
+    measured = ebi_ceiling_mps(EXACT, p) + ceiling_margin_mps(EXACT, p, n_be, n_t) + p.v_ura_mps
+    standstill = Target(Fraction(0), Fraction(0), Fraction(0))
+    v_bec, _ = bec_speed_and_distance(EXACT, p, p, standstill, measured, worst_acceleration_mps2(EXACT, p))
+    return max(measured, v_bec)
+
+
+def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window, ...]:
+    """One window per segment of the compensated ``profile``, for the ends of authority on it: it starts at the
+    last breakpoint behind the segment where the EBD of an end of authority at the segment's start is already
+    above the speed cap (at the line's start if there is none)."""
+    cap = speed_cap_mps(loop_data, line, profile)
+    steepest = min(profile.values)
+    ends = (*profile.starts_m[1:], profile.end_m)
+    windows = []
+    for k, (eoa_from, eoa_to) in enumerate(zip(profile.starts_m, ends, strict=True)):
+        p = _loop_params(loop_data, line, profile, eoa_from)
+        target = Target(eoa_from, Fraction(0), Fraction(0))
+        reach = [
+            j
+            for j in range(k)
+            if ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap * cap
+        ]
+        first = max(reach) if reach else 0
+        starts = [profile.starts_m[j] for j in range(first, k + 1)]
+        values = [profile.values[j] for j in range(first, k + 1)]
+        if first > 0:
+            starts, values = [Fraction(0), *starts], [steepest, *values]
+        if eoa_to < profile.end_m:
+            starts, values = [*starts, eoa_to], [*values, steepest]
+        window = _merged(starts, values, profile.end_m)
+        windows.append(Window(k, eoa_from, eoa_to, profile.starts_m[first] if reach else Fraction(0), window, cap))
+    return tuple(windows)
+
+
+def _in_window(w: Window, top_mps: Fraction) -> Assumption:
+    def holds(o, p, s, i):
+        return o.and_(o.const(w.eoa_from_m) <= p.eoa_m, p.eoa_m <= o.const(w.eoa_to_m), p.mrsp_mps <= o.const(top_mps))
+
+    return Assumption(
+        "window",
+        f"the end of authority lies in [{w.eoa_from_m}, {w.eoa_to_m}] m, the MRSP is at most the line's top speed "
+        f"limit ({float(top_mps * KMH_PER_MPS):g} km/h)",
+        holds,
+    )
+
+
+def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile) -> Property:
+    """CL-07: the EBD of every end of authority in the window, on the line's own profile, is above the speed cap
+    at the window's start (so every curve location the ATP computes lies within the window)."""
+    fixed = {key: loop_data[key] for key in CURVES.sorts("params") if key in loop_data}
+    fixed |= {
+        "gradient_starts_m": profile.starts_m,
+        "gradient_permille": profile.values,
+        "line_end_m": profile.end_m,
+        "target_speed_mps": Fraction(0),
+        "target_ebd_foot_mps": Fraction(0),
+    }
+
+    def in_window(o, p, s, i):
+        return o.and_(o.const(w.eoa_from_m) <= p.target_m, p.target_m <= o.const(w.eoa_to_m))
+
+    def holds(o, p, s, i, out, nxt):
+        speed2 = ebd_speed2_at(o, p, p, curve_gradient(p), curve_target(p), o.const(w.start_m))
+        return o.const(w.speed_cap_mps * w.speed_cap_mps) <= speed2
+
+    return Property(
+        name=name,
+        requirement="CL-07",
+        seed="000 §2.4; docs/configuration.md windows",
+        text=(
+            f"the EBD of an end of authority anywhere in [{w.eoa_from_m}, {w.eoa_to_m}] m is above "
+            f"{float(w.speed_cap_mps * KMH_PER_MPS):.3f} km/h (the speed cap) at the window's start, {w.start_m} m"
+        ),
+        node=sized_node(CURVES, fixed),
+        holds=holds,
+        assumptions=(Assumption("eoa_in_window", f"the target lies in [{w.eoa_from_m}, {w.eoa_to_m}] m", in_window),),
+        fixed_params=fixed,
+        max_k=0,
+    )
+
+
 def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:
     """The closed-loop theorems of train ``t`` on ``line`` (module docstring; none when :func:`closed_loop_gap`
-    says why), with ``train``'s data and ``suffix`` as :func:`curve_family`."""
+    says why), one set per :class:`Window`, with each window's CL-07 obligation (for a window not from the line's
+    start), with ``train``'s data and ``suffix`` as :func:`curve_family`."""
     if closed_loop_gap(t):
         return ()
     train = t.train if train is None else train
     tag = f"{_slug(t.name)}_{_slug(line.name)}{suffix}"
     loop_data = preset_data(whole_cycle_train(train, config.cycle_s), t.national, config.cycle_s)
+    del loop_data["gradient_permille"]
+    profile = compensated_gradients(line, train.train_length_m)
+    top = max(line.speed_limits.values)
     props = []
-    for j, pair in enumerate(gradient_transitions(compensated_gradients(line, train.train_length_m))):
-        fixed = {**loop_data, "gradient_permille": pair}
+    for w in line_windows(profile, loop_data, line):
+        fixed = {
+            **loop_data,
+            "gradient_starts_m": w.profile.starts_m,
+            "gradient_permille": w.profile.values,
+            "line_end_m": w.profile.end_m,
+        }
         loop_node = sized_node(CLOSED_LOOP, fixed)
-        props += [dataclasses.replace(p, node=loop_node) for p in closed_loop_properties(f"{tag}_{j}", fixed)]
+        window = _in_window(w, top)
+        props += [
+            dataclasses.replace(p, node=loop_node, assumptions=(*p.assumptions, window))
+            for p in closed_loop_properties(f"{tag}_w{w.index}", fixed)
+        ]
+        if w.start_m > 0:
+            props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile))
     return tuple(props)
 
 
