@@ -5,21 +5,25 @@ For each train on each line, with the train's data and the configuration's natio
 
 - every **gradient transition** of the line (each pair of adjacent values of its profile compensated by the
   train's length, the breakpoint symbolic; a line of one gradient gives the pair of it with itself): the curve
-  properties (CRV-01, 02, 06, 08, 10, 11; CRV-12 for a train with a normal service brake) and the closed-loop
-  theorems (CL-00 to CL-06: no EoA overrun, under the ceiling, for any end of authority and any constant MRSP);
+  properties (CRV-01, 02, 06, 08, 10, 11; CRV-12 for a train with a normal service brake);
 - the **whole line**: CRV-08, the EBD the braking curve through every segment of the line's compensated profile
-  (breakpoints and values fixed), to any target on the line.
+  (breakpoints and values fixed), to any target on the line;
+- the **closed loop on the line's profile**: CL-00 to CL-06 (no EoA overrun, under the ceiling) for an end of
+  authority anywhere on the line and any constant MRSP up to the line's top speed limit, one :class:`Window` per
+  segment of the compensated profile, each with its CL-07 obligation (docs/configuration.md "Windows" argues why
+  the windows' theorems hold on the line).
 
 The closed loop runs on whole cycles: the train's T_be and T_traction are rounded up to whole cycles of the
 configuration's ``cycle_s`` (at least one), so the ATP and the plant both assume the (not shorter) rounded times.
-Names: ``curves.<kind>_<train>_<line>_<j>`` and ``closed_loop.<kind>_<train>_<line>_<j>`` for the transition
-``j``, ``curves.ebd_is_braking_curve_<train>_<line>_whole``.
+Names: ``curves.<kind>_<train>_<line>_<j>`` for the transition ``j``, ``curves.ebd_is_braking_curve_<train>_<line>
+_whole``, ``closed_loop.<kind>_<train>_<line>_w<k>`` for the window ``k``.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 import re
 from dataclasses import dataclass
 from fractions import Fraction
@@ -158,21 +162,35 @@ def speed_cap_mps(loop_data: dict, line: Line, profile: Profile) -> Fraction:
     return max(measured, v_bec)
 
 
+MAX_WINDOW_EOA_M = 800
+"""The longest stretch of ends of authority one window covers (m): a segment longer than this gets several windows.
+z3 proves a window's braking invariant in seconds for an 800 m stretch and not in 600 s for 1,600 m
+(docs/configuration.md "Windows")."""
+
+
 def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window, ...]:
-    """One window per segment of the compensated ``profile``, for the ends of authority on it: it starts at the
-    last breakpoint behind the segment where the EBD of an end of authority at the segment's start is already
-    above the speed cap (at the line's start if there is none)."""
+    """The windows of the compensated ``profile``: each segment's ends of authority in stretches of at most
+    :data:`MAX_WINDOW_EOA_M`, one window each. A window starts at the last breakpoint behind its stretch where
+    the EBD of an end of authority at the stretch's start is already above the speed cap (at the line's start if
+    there is none)."""
     cap = speed_cap_mps(loop_data, line, profile)
     steepest = min(profile.values)
     ends = (*profile.starts_m[1:], profile.end_m)
+    stretches = []
+    for k, (start, end) in enumerate(zip(profile.starts_m, ends, strict=True)):
+        pieces = math.ceil((end - start) / MAX_WINDOW_EOA_M)
+        stretches += [
+            (k, start + (end - start) * m / pieces, start + (end - start) * (m + 1) / pieces) for m in range(pieces)
+        ]
     windows = []
-    for k, (eoa_from, eoa_to) in enumerate(zip(profile.starts_m, ends, strict=True)):
+    for index, (k, eoa_from, eoa_to) in enumerate(stretches):
         p = _loop_params(loop_data, line, profile, eoa_from)
         target = Target(eoa_from, Fraction(0), Fraction(0))
         reach = [
             j
-            for j in range(k)
-            if ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap * cap
+            for j in range(k + 1)
+            if profile.starts_m[j] < eoa_from
+            and ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap * cap
         ]
         first = max(reach) if reach else 0
         starts = [profile.starts_m[j] for j in range(first, k + 1)]
@@ -182,7 +200,7 @@ def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window,
         if eoa_to < profile.end_m:
             starts, values = [*starts, eoa_to], [*values, steepest]
         window = _merged(starts, values, profile.end_m)
-        windows.append(Window(k, eoa_from, eoa_to, profile.starts_m[first] if reach else Fraction(0), window, cap))
+        windows.append(Window(index, eoa_from, eoa_to, profile.starts_m[first] if reach else Fraction(0), window, cap))
     return tuple(windows)
 
 

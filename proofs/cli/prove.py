@@ -25,8 +25,9 @@ from atcs.proofs.cli._common import (
 )
 
 SCOPE = (
-    "each closed-loop theorem holds on one gradient transition of the line (two segments) under any constant MRSP, "
-    "not yet across three or more segments nor with the MRSP's decreases as targets (docs/configuration.md)"
+    "the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere on it under "
+    "any constant MRSP up to the line's top speed limit (one window per segment), not yet with the MRSP's decreases "
+    "as targets (docs/configuration.md)"
 )
 """What ``--config``'s closed-loop theorems cover, printed before the verdicts."""
 

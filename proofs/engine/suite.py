@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
-from concurrent.futures import as_completed
+from concurrent.futures import FIRST_COMPLETED, wait
 
 from atcs.proofs.engine.prove import Result, prove
 from atcs.proofs.workers import worker_pool
@@ -74,6 +74,24 @@ def _prove_registered(
     return result
 
 
+def _prove_in_worker(
+    name: str, timeout_s: float, lemma_results: dict[str, Result], smooth: bool, nominal: bool
+) -> Result:
+    """:func:`_prove_registered` in a worker, with the results of the property's lemmas proved elsewhere."""
+    _proved_in_this_worker.update(lemma_results)
+    return _prove_registered(name, timeout_s, None, smooth, nominal)
+
+
+def _lemma_closure(name: str, registry: dict[str, Property]) -> set[str]:
+    found, todo = set(), list(registry[name].lemmas)
+    while todo:
+        lemma = todo.pop()
+        if lemma not in found:
+            found.add(lemma)
+            todo += registry[lemma].lemmas
+    return found
+
+
 def run(
     props: list[Property],
     *,
@@ -86,7 +104,10 @@ def run(
 ) -> Iterator[Result]:
     """Yield one result per registered property (or property of the ``configuration`` file), in completion order;
     with ``smooth``, counterexamples are smoothed (:mod:`atcs.proofs.cex.smoothing`), with ``nominal`` made near
-    nominal (:mod:`atcs.proofs.cex.nominal`)."""
+    nominal (:mod:`atcs.proofs.cex.nominal`).
+
+    With ``jobs`` workers, a property whose lemmas are among ``props`` starts once they are proved, with their
+    results, so no two workers prove the same lemma."""
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     if jobs == 1 or len(props) == 1:
@@ -96,11 +117,28 @@ def run(
             on_start(prop)
             yield _prove_registered(prop.name, timeout_s, proved, smooth, nominal, registry)
         return
+    registry = configured_registry(configuration)
+    names = {p.name for p in props}
+    waits = {p.name: _lemma_closure(p.name, registry) & names for p in props}
+    done: dict[str, Result] = {}
     setup = (_use_configuration, (configuration,)) if configuration is not None else (None, ())
     with worker_pool(jobs, *setup) as pool:
         futures = {}
-        for prop in props:
-            on_start(prop)
-            futures[pool.submit(_prove_registered, prop.name, timeout_s, None, smooth, nominal)] = prop
-        for future in as_completed(futures):
-            yield future.result()
+
+        def submit_ready():
+            for prop in props:
+                if prop.name in waits and waits[prop.name] <= set(done):
+                    lemmas = {n: done[n] for n in _lemma_closure(prop.name, registry) if n in done}
+                    del waits[prop.name]
+                    on_start(prop)
+                    futures[pool.submit(_prove_in_worker, prop.name, timeout_s, lemmas, smooth, nominal)] = prop
+
+        submit_ready()
+        while futures:
+            finished, _ = wait(futures, return_when=FIRST_COMPLETED)
+            for future in finished:
+                futures.pop(future)
+                result = future.result()
+                done[result.name] = result
+                yield result
+            submit_ready()

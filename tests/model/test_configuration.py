@@ -2,6 +2,7 @@
 and every bad value is refused naming the file, the field and the value."""
 
 import dataclasses
+import math
 import re
 from fractions import Fraction
 from pathlib import Path
@@ -167,8 +168,15 @@ def test_the_closed_loop_runs_on_whole_cycles(tmp_path):
 def test_properties_for_each_train_line_and_transition(tmp_path):
     config = load_configuration(_write(tmp_path))
     names = [p.name for p in configuration_properties(config)]
-    assert len(names) == len(set(names)) == 2 * (2 * (6 + 7) + 1)
-    assert "closed_loop.no_overrun_gamma_passenger_p_short_1" in names
+    curves = [n for n in names if n.startswith("curves.")]
+    assert len(curves) == 2 * (2 * 6 + 1)  # each train: two transitions, and the whole line
+    windows = {n.rsplit("_w", 1)[1] for n in names if n.startswith("closed_loop.no_overrun_gamma")}
+    profile = compensated_gradients(config.lines[0], config.trains[0].train.train_length_m)
+    ends = (*profile.starts_m[1:], profile.end_m)
+    stretches = sum(math.ceil((end - start) / 800) for start, end in zip(profile.starts_m, ends, strict=True))
+    assert windows == {str(k) for k in range(stretches)}  # per segment, one per stretch of at most 800 m
+    assert len(names) == len(set(names))
+    assert "closed_loop.no_overrun_gamma_passenger_p_short_w1" in names
     assert "curves.ebd_is_braking_curve_seed000_short_whole" in names
     assert configuration_gaps(config) == ()
 

@@ -26,7 +26,9 @@ def test_a_configuration_is_proved(jobs, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "curves.spacing_seed000_design_0" in out and "curves.spacing_seed002_design_0" in out
     assert "not covered" not in out
-    assert "scope each closed-loop theorem holds on one gradient transition of the line (two segments)" in out
+    assert (
+        "scope the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere" in out
+    )
 
 
 def test_what_is_not_covered_is_said_and_incomplete(tmp_path, capsys):
@@ -124,3 +126,14 @@ def test_a_train_with_a_normal_service_brake_gets_its_own_guidance_curve_proved(
     for key, value in as_dict(guidance_data(loaded.trains[1].rail)).items():
         assert gui.fixed_params[key] == value and gui.node.sizes[key] == len(value)
     assert prove(gui, timeout_s=120).status == "proved"
+
+
+def test_the_closed_loop_is_proved_in_each_window_of_the_line(tmp_path, capsys):
+    argv = ["prove", "--config", str(SHIPPED / "seeds.toml"), "--only", "closed_loop.no_overrun_seed000_design_w*"]
+    assert main([*argv, "--json", str(tmp_path / "r.json"), "--cex-dir", str(tmp_path), "--jobs", "2"]) == 0
+    doc = json.loads((tmp_path / "r.json").read_text())
+    statuses = {p["name"]: p["status"] for p in doc["properties"]}
+    assert statuses == {f"closed_loop.no_overrun_seed000_design_w{k}": "proved" for k in range(7)}
+    last = next(p for p in doc["properties"] if p["name"].endswith("_w6"))
+    (window,) = [a for a in last["assumptions"] if a.startswith("the end of authority lies in")]
+    assert window.startswith("the end of authority lies in [12700/3, 5000] m, the MRSP is at most the line's top")

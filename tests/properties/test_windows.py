@@ -1,0 +1,88 @@
+"""The closed loop's windows of a line (docs/configuration.md "Windows"): they cover every end of authority on the
+line, each window's profile is the line's from its start and the steepest downhill elsewhere, its start is the
+last breakpoint the EBD passes the speed cap at, and CL-07 proves it, failing for a start one breakpoint later."""
+
+import dataclasses
+import itertools
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+
+from atcs.model.configuration import load_configuration
+from atcs.model.curves import Target, ebd_speed2_at
+from atcs.model.ops.exact import EXACT
+from atcs.model.profile import value_at
+from atcs.model.train_data import preset_data, whole_cycle_train
+from atcs.proofs.cex.trace import reproduce
+from atcs.proofs.engine.prove import prove
+from atcs.properties.configured import (
+    MAX_WINDOW_EOA_M,
+    _loop_params,
+    _window_reach,
+    compensated_gradients,
+    line_windows,
+    loop_family,
+)
+
+EXAMPLE = Path(__file__).parents[2] / "model" / "configurations" / "example_line.toml"
+
+
+@pytest.fixture(scope="module")
+def example():
+    config = load_configuration(EXAMPLE)
+    t, line = config.trains[0], config.lines[0]
+    loop_data = preset_data(whole_cycle_train(t.train, config.cycle_s), t.national, config.cycle_s)
+    del loop_data["gradient_permille"]
+    profile = compensated_gradients(line, t.train.train_length_m)
+    return config, t, line, loop_data, profile, line_windows(profile, loop_data, line)
+
+
+def test_the_windows_cover_every_end_of_authority_on_the_line(example):
+    *_, profile, windows = example
+    assert windows[0].eoa_from_m == 0 and windows[-1].eoa_to_m == profile.end_m
+    assert all(a.eoa_to_m == b.eoa_from_m for a, b in itertools.pairwise(windows))
+    assert all(w.eoa_to_m - w.eoa_from_m <= MAX_WINDOW_EOA_M for w in windows)
+    ends = (*profile.starts_m[1:], profile.end_m)
+    assert set(profile.starts_m) | set(ends) <= {w.eoa_from_m for w in windows} | {w.eoa_to_m for w in windows}
+
+
+def test_a_windows_profile_is_the_lines_from_its_start_and_the_steepest_downhill_elsewhere(example):
+    *_, profile, windows = example
+    steepest = min(profile.values)
+    for w in windows:
+        for x in range(0, int(profile.end_m), 50):
+            inside = w.start_m <= x < w.eoa_to_m
+            expected = value_at(EXACT, profile, Fraction(x)) if inside else steepest
+            assert value_at(EXACT, w.profile, Fraction(x)) == expected, (w.index, x)
+
+
+def test_a_windows_start_is_the_last_breakpoint_the_ebd_passes_the_speed_cap_at(example):
+    _, _, line, loop_data, profile, windows = example
+    for w in windows:
+        p = _loop_params(loop_data, line, profile, w.eoa_from_m)
+        target = Target(w.eoa_from_m, Fraction(0), Fraction(0))
+        later = [s for s in profile.starts_m if w.start_m < s < w.eoa_from_m]
+        if w.start_m > 0:
+            assert ebd_speed2_at(EXACT, p, p, profile, target, w.start_m) >= w.speed_cap_mps**2
+        for s in later:
+            assert ebd_speed2_at(EXACT, p, p, profile, target, s) < w.speed_cap_mps**2
+
+
+def test_each_window_not_from_the_line_start_has_its_reach_obligation(example):
+    config, t, line, *_, windows = example
+    names = {p.name for p in loop_family(config, t, line)}
+    for w in windows:
+        assert (f"closed_loop.window_reach_gamma_passenger_p_example_w{w.index}" in names) == (w.start_m > 0)
+
+
+def test_the_reach_obligation_is_proved_and_fails_one_breakpoint_later(example):
+    _, _, _, loop_data, profile, windows = example
+    w = next(w for w in windows if w.start_m > 0 and w.index == 9)
+    prop = _window_reach("closed_loop.window_reach_test", w, loop_data, profile)
+    assert prove(prop, timeout_s=300).status == "proved"
+    later = profile.starts_m[profile.starts_m.index(w.start_m) + 1]
+    mutant = _window_reach("closed_loop.window_reach_test", dataclasses.replace(w, start_m=later), loop_data, profile)
+    result = prove(mutant, timeout_s=300)
+    assert result.status == "falsified", result.message
+    assert reproduce(mutant, result.trace).first_violation == result.k
