@@ -10,8 +10,8 @@ For each train on each line, with the train's data and the configuration's natio
   (breakpoints and values fixed), to any target on the line;
 - the **closed loop on the line's profile**: CL-00 to CL-06 (no EoA overrun, under the ceiling) for an end of
   authority anywhere on the line and any constant MRSP up to the line's top speed limit, one :class:`Window` per
-  segment of the compensated profile, each with its CL-07 obligation (docs/configuration.md "Windows" argues why
-  the windows' theorems hold on the line).
+  stretch of at most 800 m of ends of authority, each with its CL-07 obligation (docs/configuration.md "Windows"
+  argues why the windows' theorems hold on the line).
 
 The closed loop runs on whole cycles: the train's T_be and T_traction are rounded up to whole cycles of the
 configuration's ``cycle_s`` (at least one), so the ATP and the plant both assume the (not shorter) rounded times.

@@ -26,7 +26,7 @@ from atcs.proofs.cli._common import (
 
 SCOPE = (
     "the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere on it under "
-    "any constant MRSP up to the line's top speed limit (one window per segment), not yet with the MRSP's decreases "
+    "any constant MRSP up to the line's top speed limit (in windows of the line), not yet with the MRSP's decreases "
     "as targets (docs/configuration.md)"
 )
 """What ``--config``'s closed-loop theorems cover, printed before the verdicts."""
@@ -265,6 +265,9 @@ def _write_maps(maps: dict, args, out) -> list[dict]:
                 prop = next(p for p, _ in cell_proofs(config, name, c.cell) if p.name == failing.name)
                 counterexamples[(name, c.cell.id)] = str(report.write_counterexample(args.cex_dir, prop, failing))
     entries = map_json(maps, counterexamples)
+    reused = [f"{m.name} [{c.cell.describe()}]" for m in maps.values() for c in m.cells if c.reused]
+    if reused:
+        out.print(f"reused proved cell proofs from {args.cache}: " + ", ".join(reused))
     for m in maps.values():
         out.print(f"envelope {m.name}: [{STYLE[m.status]}]{m.status}[/] ({m.describe()})")
     if args.map:

@@ -35,11 +35,12 @@ def test_the_imported_line_gives_the_same_properties_and_verdicts(tmp_path, caps
     written = {p.name: p for p in configuration_properties(load_configuration(SEEDS))}
     assert imported.keys() == written.keys()
     assert all(imported[n].fixed_params == written[n].fixed_params for n in written)
-    only = ["--only", "curves.ebd_is_braking_curve_seed000_design_*"]
+    only = ["--only", "curves.ebd_is_braking_curve_seed000_design_*", "--only", "closed_loop.*_seed000_design_w6"]
     assert main(["prove", "--config", str(_with_imported_line(tmp_path)), *only, "--cex-dir", str(tmp_path)]) == 0
     assert main(["prove", "--config", str(SEEDS), *only, "--cex-dir", str(tmp_path)]) == 0
-    verdicts = [line.split("│")[1:4] for line in capsys.readouterr().out.splitlines() if "curves.ebd" in line]
-    assert len(verdicts) == 4 and verdicts[:2] == verdicts[2:]
+    rows = [line.split("│")[1:4] for line in capsys.readouterr().out.splitlines() if "_design_" in line]
+    assert len(rows) == 2 * 10 and rows[:10] == rows[10:]  # 2 CRV-08, 7 CL-00 to CL-06 and CL-07 each
+    assert {row[2].strip() for row in rows} == {"proved"}
 
 
 def test_elements_not_used_are_listed():

@@ -188,3 +188,14 @@ class TestCommand:
         path.write_text(textwrap.dedent(CONFIG.format(train=shipped_trains()["gamma_passenger_P"], ranges="")))
         assert main(["prove", "--config", str(path), "--only", SPACING, *option]) == EXIT_USAGE
         assert "gives no train a range of train data" in capsys.readouterr().err
+
+
+def test_a_second_run_reuses_the_cells_proofs_from_the_cache(tmp_path, capsys):
+    path = _write(tmp_path)
+    argv = ["prove", "--config", str(path), "--only", SPACING, "--cache", str(tmp_path / "cache")]
+    assert main([*argv, "--json", str(tmp_path / "a.json")]) == EXIT_OK
+    assert "reused" not in capsys.readouterr().out
+    assert main([*argv, "--json", str(tmp_path / "b.json")]) == EXIT_OK
+    assert f"reused proved cell proofs from {tmp_path / 'cache'}: {SPACING} [" in capsys.readouterr().out
+    (entry,) = json.loads((tmp_path / "b.json").read_text())["envelopes"]
+    assert [c["reused"] for c in entry["cells"]] == [1]
