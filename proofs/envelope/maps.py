@@ -10,7 +10,7 @@ import json
 from fractions import Fraction
 from pathlib import Path
 
-from atcs.proofs.envelope.sweep import _WORST, PropertyMap
+from atcs.proofs.envelope.sweep import WORST_FIRST, PropertyMap
 
 __all__ = ["COLOURS", "map_json", "plot_slices", "write_map"]
 
@@ -97,7 +97,7 @@ def plot_slices(maps: dict[str, PropertyMap], directory: str | Path) -> list[Pat
             fig = Figure(figsize=(6.4, 4.8))
             ax = fig.add_subplot()
             cuts = [(m, c) for m in train_maps for c in m.cells if _contains(c.cell.bounds, middle, {x, y})]
-            for _, c in sorted(cuts, key=lambda mc: -_WORST.index(mc[1].status)):  # the worst drawn last, on top
+            for _, c in sorted(cuts, key=lambda mc: -WORST_FIRST.index(mc[1].status)):  # the worst drawn last, on top
                 box = {f: (lo, hi) for f, lo, hi in c.cell.bounds}
                 (x0, x1), (y0, y1) = box[x], box[y] if y else (0, 1)
                 ax.add_patch(
@@ -123,7 +123,7 @@ def plot_slices(maps: dict[str, PropertyMap], directory: str | Path) -> list[Pat
             others = [f for f in fields if f not in (x, y)]
             cut = "; ".join(f"{f} = {float(middle[f]):g}" for f in others)
             ax.set_title(f"{train}: {len(train_maps)} properties" + (f" ({cut})" if cut else ""), fontsize=9)
-            seen = sorted({c.status for _, c in cuts}, key=_WORST.index)
+            seen = sorted({c.status for _, c in cuts}, key=WORST_FIRST.index)
             ax.legend(handles=[Patch(facecolor=COLOURS[s], label=s) for s in seen], loc="upper right", fontsize=8)
             path = directory / (f"{train}.{x}.{y}.png" if y else f"{train}.{x}.png")
             buffer = io.BytesIO()

@@ -15,6 +15,7 @@ from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, wait
 from dataclasses import dataclass, field
 from fractions import Fraction
+from pathlib import Path
 
 from atcs.model.configuration import Configuration, ConfiguredTrain, DataRange, Line, load_configuration
 from atcs.proofs.engine.prove import Result, prove
@@ -23,9 +24,9 @@ from atcs.properties.configured import curve_family, loop_family
 from atcs.properties.envelope import Cell, cell_families
 from atcs.properties.property import Property
 
-__all__ = ["CellVerdict", "PropertyMap", "envelope_properties", "prove_cell", "sweep"]
+__all__ = ["WORST_FIRST", "CellVerdict", "PropertyMap", "cell_proofs", "envelope_properties", "prove_cell", "sweep"]
 
-_WORST = ("error", "falsified", "vacuous", "unknown", "proved")
+WORST_FIRST = ("error", "falsified", "vacuous", "unknown", "proved")
 """Verdicts from worst to best: a cell's is the worst of its proofs', a map's the worst of its cells'."""
 
 
@@ -61,14 +62,14 @@ class PropertyMap:
     @property
     def status(self) -> str:
         """proved only if every cell is; else the worst cell verdict."""
-        return min((c.status for c in self.cells), key=_WORST.index, default="unknown")
+        return min((c.status for c in self.cells), key=WORST_FIRST.index, default="unknown")
 
     @property
     def seconds(self) -> float:
         return sum(c.seconds for c in self.cells)
 
     def describe(self) -> str:
-        counts = {s: sum(c.status == s for c in self.cells) for s in _WORST}
+        counts = {s: sum(c.status == s for c in self.cells) for s in WORST_FIRST}
         parts = [f"{n} {s}" for s, n in counts.items() if n]
         return f"{len(self.cells)} cells: " + ", ".join(parts)
 
@@ -134,7 +135,7 @@ def prove_cell(
         results.append(result)
         if result.status != "proved":
             break  # the cell is not proved; the other roundings would not change that
-    status = min((r.status for r in results), key=_WORST.index)
+    status = min((r.status for r in results), key=WORST_FIRST.index)
     return CellVerdict(cell, str(status), time.monotonic() - start, tuple(results), reused)
 
 
@@ -149,7 +150,9 @@ def sweep(
 ) -> dict[str, PropertyMap]:
     """The map of each property in ``names`` (of :func:`envelope_properties`), its cells proved as tasks on
     ``executor`` (``submit(fn, *args) -> Future``), refined as the module docstring says; ``on_cell`` is told of
-    each final cell."""
+    each final cell. The paths are made absolute first: a Ray worker does not run in this directory."""
+    config_path = str(Path(config_path).resolve())
+    cache_dir = None if cache_dir is None else str(Path(cache_dir).resolve())
     config = _configuration(config_path)
     owners = envelope_properties(config)
     maps = {}

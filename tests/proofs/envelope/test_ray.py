@@ -86,3 +86,11 @@ def test_the_sweep_benchmark_checks_the_three_ways_agree():
         for what in ("cells_per_minute", "startup_s")
     }
     assert console.export_text().count("same verdicts") == 3
+
+
+@pytest.mark.slow
+def test_prove_on_ray_with_a_relative_configuration_path(monkeypatch, tmp_path, capsys):
+    monkeypatch.chdir(Path(CONFIG).parents[2])
+    argv = ["prove", "--config", "model/configurations/envelope.toml", "--only", "curves.spacing_*", "--ray", "auto"]
+    assert main([*argv, "--cache", str(tmp_path / "cache"), "--cex-dir", str(tmp_path)]) == 0
+    assert "envelope curves.spacing_gamma_passenger_p_design_0: proved (1 cells: 1 proved)" in capsys.readouterr().out
