@@ -8,8 +8,9 @@ import atcs.properties
 from atcs.properties import PROPERTIES
 from atcs.properties.property import Property
 
-# modules of the package that hold no properties of their own (configured: a configuration's, made on demand)
-HELPERS = {"configured", "property", "under_train"}
+# modules of the package that hold no properties of their own (configured: a configuration's, made on demand;
+# envelope: a configuration's over a cell of its ranges)
+HELPERS = {"configured", "envelope", "property", "under_train"}
 
 
 def _property_modules() -> dict[str, object]:

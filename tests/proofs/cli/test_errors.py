@@ -143,6 +143,6 @@ def test_bench_help_lists_every_benchmark_with_its_summary(capsys):
         main(["bench", "--help"])
     assert exit_.value.code == 0
     out = capsys.readouterr().out
-    assert list(BENCHMARKS) == ["supervision", "mrsp", "cycle", "sim"]
+    assert list(BENCHMARKS) == ["supervision", "mrsp", "cycle", "sim", "sweep"]
     for name in BENCHMARKS:
         assert re.search(rf"^  {name} +{re.escape(summary(name))}$", out, re.MULTILINE), out
