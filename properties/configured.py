@@ -30,15 +30,16 @@ from fractions import Fraction
 
 from atcs.model.braking_data import guidance_data
 from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopParams, whole_cycles, worst_acceleration_mps2
-from atcs.model.configuration import Configuration, ConfiguredTrain, Line
+from atcs.model.configuration import Configuration, ConfiguredTrain, Line, train_with
 from atcs.model.curves import CURVES, Target, bec_speed_and_distance, curve_gradient, curve_target, ebd_speed2_at
+from atcs.model.dynamic_profile import ceilings
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import plant_gradient
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import extend_by_train_length
 from atcs.model.train_data import preset_data, whole_cycle_train
-from atcs.properties.closed_loop import ceiling_margin_mps, closed_loop_properties, ebi_ceiling_mps
+from atcs.properties.closed_loop import ceiling_margin_mps, closed_loop_properties
 from atcs.properties.curves import curve_properties, sized_node
 from atcs.properties.property import Assumption, Property
 
@@ -49,6 +50,7 @@ __all__ = [
     "configuration_properties",
     "curve_family",
     "gradient_transitions",
+    "layout_train",
     "loop_family",
 ]
 
@@ -151,15 +153,34 @@ def _loop_params(loop_data: dict, line: Line, profile: Profile, eoa_m):
     return ClosedLoopParams(**values)
 
 
+class _WithCycle:
+    """Train and national parameters (a curve's, or a closed loop's) read as a closed loop's, with the cycle
+    given apart."""
+
+    def __init__(self, p, cycle_s):
+        self._p, self.cycle_s = p, cycle_s
+
+    def __getattr__(self, name):
+        return getattr(self._p, name)
+
+
+def speed_cap(o, p, top_mps, cycle_s, n_t: int, n_be: int):
+    """The highest speed the ATP computes a curve location for (:class:`Window`), from the train and national
+    parameters ``p`` (symbolic or not) with ``n_t``/``n_be`` whole cycles of ``cycle_s`` to traction cut-off and
+    brake build-up: V_bec at the measured speed ``MRSP + dV_ebi + the closed loop's margin + V_ura``, the MRSP
+    ``top_mps``, the line's top speed limit."""
+    q = _WithCycle(p, o.const(cycle_s))
+    measured = ceilings(o, p, o.const(top_mps)).ebi_mps + ceiling_margin_mps(o, q, n_be, n_t) + p.v_ura_mps
+    zero = o.const(0)
+    v_bec, _ = bec_speed_and_distance(o, p, p, Target(zero, zero, zero), measured, worst_acceleration_mps2(o, p))
+    return o.max(measured, v_bec)
+
+
 def speed_cap_mps(loop_data: dict, line: Line, profile: Profile) -> Fraction:
-    """The highest speed the ATP computes a curve location for on ``line`` (:class:`Window`): V_bec at the
-    measured speed ``MRSP + dV_ebi + the closed loop's margin + V_ura``, the MRSP the line's top speed limit."""
+    """:func:`speed_cap` of the closed loop's data on ``line``, exactly."""
     p = _loop_params(loop_data, line, profile, Fraction(0))
     n_t, n_be = whole_cycles("window", loop_data)
-    measured = ebi_ceiling_mps(EXACT, p) + ceiling_margin_mps(EXACT, p, n_be, n_t) + p.v_ura_mps
-    standstill = Target(Fraction(0), Fraction(0), Fraction(0))
-    v_bec, _ = bec_speed_and_distance(EXACT, p, p, standstill, measured, worst_acceleration_mps2(EXACT, p))
-    return max(measured, v_bec)
+    return speed_cap(EXACT, p, max(line.speed_limits.values), loop_data["cycle_s"], n_t, n_be)
 
 
 MAX_WINDOW_EOA_M = 800
@@ -216,9 +237,10 @@ def _in_window(w: Window, top_mps: Fraction) -> Assumption:
     )
 
 
-def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile) -> Property:
+def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_mps) -> Property:
     """CL-07: the EBD of every end of authority in the window, on the line's own profile, is above the speed cap
-    at the window's start (so every curve location the ATP computes lies within the window)."""
+    (:func:`speed_cap`, of the node's own parameters, so a train data range covers it too) at the window's start,
+    so every curve location the ATP computes lies within the window."""
     fixed = {key: loop_data[key] for key in CURVES.sorts("params") if key in loop_data}
     fixed |= {
         "gradient_starts_m": profile.starts_m,
@@ -227,21 +249,26 @@ def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile) -> Pr
         "target_speed_mps": Fraction(0),
         "target_ebd_foot_mps": Fraction(0),
     }
+    n_t, n_be = whole_cycles("window", loop_data)
+    cycle_s = loop_data["cycle_s"]
 
     def in_window(o, p, s, i):
         return o.and_(o.const(w.eoa_from_m) <= p.target_m, p.target_m <= o.const(w.eoa_to_m))
 
     def holds(o, p, s, i, out, nxt):
         speed2 = ebd_speed2_at(o, p, p, curve_gradient(p), curve_target(p), o.const(w.start_m))
-        return o.const(w.speed_cap_mps * w.speed_cap_mps) <= speed2
+        cap = speed_cap(o, p, top_mps, cycle_s, n_t, n_be)
+        return cap * cap <= speed2
 
     return Property(
         name=name,
         requirement="CL-07",
         seed="000 §2.4; docs/configuration.md windows",
         text=(
-            f"the EBD of an end of authority anywhere in [{w.eoa_from_m}, {w.eoa_to_m}] m is above "
-            f"{float(w.speed_cap_mps * KMH_PER_MPS):.3f} km/h (the speed cap) at the window's start, {w.start_m} m"
+            f"the EBD of an end of authority anywhere in [{w.eoa_from_m}, {w.eoa_to_m}] m is above the speed cap "
+            f"(V_bec at the measured speed of the closed loop's ceiling at {float(top_mps * KMH_PER_MPS):g} km/h; "
+            f"{float(w.speed_cap_mps * KMH_PER_MPS):.3f} km/h with the train's data) at the window's start, "
+            f"{w.start_m} m"
         ),
         node=sized_node(CURVES, fixed),
         holds=holds,
@@ -254,17 +281,21 @@ def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile) -> Pr
 def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:
     """The closed-loop theorems of train ``t`` on ``line`` (module docstring; none when :func:`closed_loop_gap`
     says why), one set per :class:`Window`, with each window's CL-07 obligation (for a window not from the line's
-    start), with ``train``'s data and ``suffix`` as :func:`curve_family`."""
+    start), with ``train``'s data and ``suffix`` as :func:`curve_family`. The windows are laid out with
+    :func:`layout_train` (so the family has the same properties whatever ``train`` is); CL-07 is proved with
+    ``train``'s data, or over a cell of its ranges."""
     if closed_loop_gap(t):
         return ()
     train = t.train if train is None else train
     tag = f"{_slug(t.name)}_{_slug(line.name)}{suffix}"
     loop_data = preset_data(whole_cycle_train(train, config.cycle_s), t.national, config.cycle_s)
     del loop_data["gradient_permille"]
+    own_data = preset_data(whole_cycle_train(layout_train(t), config.cycle_s), t.national, config.cycle_s)
+    del own_data["gradient_permille"]
     profile = compensated_gradients(line, train.train_length_m)
     top = max(line.speed_limits.values)
     props = []
-    for w in line_windows(profile, loop_data, line):
+    for w in line_windows(profile, own_data, line):
         fixed = {
             **loop_data,
             "gradient_starts_m": w.profile.starts_m,
@@ -278,8 +309,32 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
             for p in closed_loop_properties(f"{tag}_w{w.index}", fixed)
         ]
         if w.start_m > 0:
-            props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile))
+            props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile, top))
     return tuple(props)
+
+
+_FARTHEST_REACH = {
+    "t_be_s": max,
+    "t_traction_s": max,
+    "max_acceleration_mps2": max,
+    "v_ura_mps": max,
+    "emergency_deceleration_scale": min,
+    "service_deceleration_scale": min,
+    "rotating_mass_uphill_percent": max,
+    "rotating_mass_downhill_percent": min,
+}
+"""For each range field, the end of its range that raises the speed cap or weakens the EBD."""
+
+
+def layout_train(t: ConfiguredTrain):
+    """The train data the windows of ``t`` are laid out with: its own, each range field at the end of its range
+    that raises the speed cap or weakens the EBD (:data:`_FARTHEST_REACH`), so one layout serves every cell.
+    The layout is a choice, not an assumption: CL-07 is proved for every value of a cell, and fails where the
+    layout does not hold."""
+    train = t.train
+    for r in t.ranges:
+        train = train_with(train, r.field, _FARTHEST_REACH[r.field](r.min, r.max))
+    return train
 
 
 def closed_loop_gap(t: ConfiguredTrain) -> str:

@@ -77,12 +77,21 @@ def test_each_window_not_from_the_line_start_has_its_reach_obligation(example):
 
 
 def test_the_reach_obligation_is_proved_and_fails_one_breakpoint_later(example):
-    _, _, _, loop_data, profile, windows = example
+    *_, loop_data, profile, windows = example
     w = next(w for w in windows if w.start_m > 0 and w.index == 9)
-    prop = _window_reach("closed_loop.window_reach_test", w, loop_data, profile)
+    top = max(example[2].speed_limits.values)
+    prop = _window_reach("closed_loop.window_reach_test", w, loop_data, profile, top)
     assert prove(prop, timeout_s=300).status == "proved"
     later = profile.starts_m[profile.starts_m.index(w.start_m) + 1]
-    mutant = _window_reach("closed_loop.window_reach_test", dataclasses.replace(w, start_m=later), loop_data, profile)
+    moved = dataclasses.replace(w, start_m=later)
+    mutant = _window_reach("closed_loop.window_reach_test", moved, loop_data, profile, top)
     result = prove(mutant, timeout_s=300)
     assert result.status == "falsified", result.message
     assert reproduce(mutant, result.trace).first_violation == result.k
+
+
+def test_every_range_field_has_its_end_for_the_layout():
+    from atcs.model.configuration import RANGE_FIELDS
+    from atcs.properties.configured import _FARTHEST_REACH
+
+    assert set(_FARTHEST_REACH) == set(RANGE_FIELDS)

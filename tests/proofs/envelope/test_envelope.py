@@ -129,6 +129,23 @@ class TestCellProofs:
         assert len(proofs) == 2
         assert all(p.lemmas and set(p.lemmas) <= set(registry) for p, registry in proofs)
 
+    def test_a_windows_reach_is_proved_for_every_value_of_the_cell(self, tmp_path):
+        """CL-07's speed cap is computed from the node's parameters, so a range of V_ura moves it in the proof."""
+        text = CONFIG.format(train=shipped_trains()["gamma_passenger_P"], ranges=RANGES)
+        text = text.replace("length_m = 2000", "length_m = 8000").replace("start_m = 1000", "start_m = 4000")
+        text = text.replace(
+            "t_be_s = { min = 2, max = 3, resolution = 0.5 }", "v_ura_mps = { min = 0, max = 2, resolution = 1 }"
+        )
+        path = tmp_path / "long.toml"
+        path.write_text(text, encoding="utf-8")
+        config = load_configuration(path)
+        name = next(n for n in envelope_properties(config) if n.startswith("closed_loop.window_reach"))
+        ((prop, _),) = cell_proofs(config, name, whole_range(config.trains[0].ranges))
+        assert {"range_v_ura_mps", "range_emergency_deceleration_scale"} <= {a.name for a in prop.assumptions}
+        with local_executor(1) as tasks:
+            maps = sweep(str(path), [name], timeout_s=300, executor=tasks)
+        assert maps[name].status == "proved", maps[name].describe()
+
 
 class TestSweep:
     def test_a_property_proved_over_the_whole_range_is_one_cell(self, tmp_path):
