@@ -118,9 +118,10 @@ def run(args, out, err) -> int:
     )
     ranged = _ranged(args)
     start = time.monotonic()
-    results = _prove_or_reuse([p for p in props if p.name not in ranged], configured, args, out, err)
-    maps, envelope_results = {}, {}
-    if len(results) == len(props) - len([p for p in props if p.name in ranged]):
+    plain = [p for p in props if p.name not in ranged]
+    results = _prove_or_reuse(plain, configured, args, out, err)
+    maps = {}
+    if len(results) == len(plain):  # not interrupted: the properties over ranges next
         maps, envelope_results = _envelopes([p.name for p in props if p.name in ranged], args, err)
         results |= envelope_results
     wall = time.monotonic() - start
