@@ -94,3 +94,25 @@ def test_prove_on_ray_with_a_relative_configuration_path(monkeypatch, tmp_path, 
     argv = ["prove", "--config", "model/configurations/envelope.toml", "--only", "curves.spacing_*", "--ray", "auto"]
     assert main([*argv, "--cache", str(tmp_path / "cache"), "--cex-dir", str(tmp_path)]) == 0
     assert "envelope curves.spacing_gamma_passenger_p_design_0: proved (1 cells: 1 proved)" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_prove_joins_a_running_cluster_by_its_address(tmp_path, capsys):
+    import socket
+    import subprocess
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    ray_cli = Path(sys.executable).parent / "ray"
+    subprocess.run(
+        [str(ray_cli), "start", "--head", f"--port={port}", "--num-cpus=2", "--include-dashboard=false"],
+        check=True,
+        capture_output=True,
+    )
+    try:
+        argv = ["prove", "--config", CONFIG, "--only", "curves.spacing_*", "--ray", f"127.0.0.1:{port}"]
+        assert main([*argv, "--cex-dir", str(tmp_path)]) == 0
+        assert "envelope curves.spacing_gamma_passenger_p_design_0: proved" in capsys.readouterr().out
+    finally:
+        subprocess.run([str(ray_cli), "stop"], check=False, capture_output=True)
