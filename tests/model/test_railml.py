@@ -30,6 +30,7 @@ def test_the_imported_line_is_the_hand_written_one(tmp_path):
     assert imported.lines == written.lines
 
 
+@pytest.mark.slow
 def test_the_imported_line_gives_the_same_properties_and_verdicts(tmp_path, capsys):
     imported = {p.name: p for p in configuration_properties(load_configuration(_with_imported_line(tmp_path)))}
     written = {p.name: p for p in configuration_properties(load_configuration(SEEDS))}

@@ -128,6 +128,7 @@ def test_a_train_with_a_normal_service_brake_gets_its_own_guidance_curve_proved(
     assert prove(gui, timeout_s=120).status == "proved"
 
 
+@pytest.mark.slow
 def test_the_closed_loop_is_proved_in_each_window_of_the_line(tmp_path, capsys):
     argv = ["prove", "--config", str(SHIPPED / "seeds.toml"), "--only", "closed_loop.no_overrun_seed000_design_w*"]
     assert main([*argv, "--json", str(tmp_path / "r.json"), "--cex-dir", str(tmp_path), "--jobs", "2"]) == 0
