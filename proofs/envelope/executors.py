@@ -16,7 +16,21 @@ RAY_INSTALL = "pip install 'atcs[cluster]'"
 
 
 class RayUnavailable(RuntimeError):
-    """``--ray`` was asked for, and Ray is not installed."""
+    """``--ray`` was asked for, and Ray is not installed or no cluster answers at the address."""
+
+
+def _check_answers(address: str, timeout_s: float = 5.0) -> None:
+    """Refuse at once an address that is not ``HOST:PORT`` or where nothing answers (Ray itself would retry for
+    minutes)."""
+    import socket
+
+    host, _, port = address.removeprefix("ray://").rpartition(":")
+    if not host or not port.isdigit():
+        raise RayUnavailable(f"--ray {address!r} is not auto or HOST:PORT")
+    try:
+        socket.create_connection((host, int(port)), timeout=timeout_s).close()
+    except OSError as exc:
+        raise RayUnavailable(f"--ray {address}: no Ray cluster answers there ({exc.strerror or exc})") from None
 
 
 class _Inline:
@@ -67,6 +81,7 @@ def ray_executor(address: str, jobs: int, max_retries: int = 3) -> Iterator:
         if address == "auto":
             ray.init(num_cpus=jobs, include_dashboard=False, log_to_driver=False, configure_logging=False)
         else:
+            _check_answers(address)
             ray.init(address=address, log_to_driver=False, configure_logging=False)
     try:
         yield _RayTasks(ray, max_retries)

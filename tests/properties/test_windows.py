@@ -16,6 +16,7 @@ from atcs.model.profile import value_at
 from atcs.model.train_data import preset_data, whole_cycle_train
 from atcs.proofs.cex.trace import reproduce
 from atcs.proofs.engine.prove import prove
+from atcs.proofs.mutation.mutants import patched
 from atcs.properties.configured import (
     MAX_WINDOW_EOA_M,
     _loop_params,
@@ -95,3 +96,43 @@ def test_every_range_field_has_its_end_for_the_layout():
     from atcs.properties.configured import _FARTHEST_REACH
 
     assert set(_FARTHEST_REACH) == set(RANGE_FIELDS)
+
+
+COARSE_CONFIG = """
+name = "coarse"
+
+[atp]
+cycle_s = 0.8
+
+[[trains]]
+preset = "seed000"
+
+[[lines]]
+name = "design"
+length_m = 5000
+speed_limits = [{ start_m = 0, kmh = 80 }]
+gradients = [{ start_m = 0, permille = -40 }, { start_m = 2500, permille = 40 }]
+"""
+
+
+@pytest.mark.slow
+def test_each_windows_closed_loop_property_is_falsified_by_its_registered_mutant(tmp_path):
+    """A window's CL-00 to CL-06 are the registered statements on the window's data: the registered closed-loop
+    mutants (tests/model/test_closed_loop.py) falsify them, on a coarse cycle as there, and the runs replay."""
+    from tests.model.test_closed_loop import MUTANTS
+
+    path = tmp_path / "coarse.toml"
+    path.write_text(COARSE_CONFIG, encoding="utf-8")
+    config = load_configuration(path)
+    family = [p for p in loop_family(config, config.trains[0], config.lines[0]) if p.name.endswith("_w6")]
+    assert sorted(p.requirement for p in family) == [f"CL-0{j}" for j in range(8)]
+    for prop in family:
+        if prop.requirement == "CL-07":
+            continue
+        kind = prop.name.removeprefix("closed_loop.").removesuffix("_seed000_design_w6")
+        function, old, new = MUTANTS[kind][0]
+        bare = dataclasses.replace(prop, lemmas=())
+        with patched(function, old, new):
+            result = prove(bare, timeout_s=300, max_k=12)
+            assert result.status == "falsified", (prop.name, result.message)
+            assert reproduce(bare, result.trace).first_violation == result.k

@@ -116,3 +116,16 @@ def test_prove_joins_a_running_cluster_by_its_address(tmp_path, capsys):
         assert "envelope curves.spacing_gamma_passenger_p_design_0: proved" in capsys.readouterr().out
     finally:
         subprocess.run([str(ray_cli), "stop"], check=False, capture_output=True)
+
+
+@pytest.mark.parametrize(
+    ("address", "message"),
+    [
+        ("127.0.0.1:1", "--ray 127.0.0.1:1: no Ray cluster answers there"),
+        ("nonsense", "--ray 'nonsense' is not auto or HOST:PORT"),
+    ],
+)
+def test_an_address_where_no_cluster_answers_is_refused_at_once(tmp_path, capsys, address, message):
+    argv = ["prove", "--config", CONFIG, "--only", "curves.spacing_*", "--ray", address, "--cex-dir", str(tmp_path)]
+    assert main(argv) == EXIT_USAGE
+    assert message in capsys.readouterr().err
