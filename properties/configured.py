@@ -207,13 +207,13 @@ def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window,
     for index, (k, eoa_from, eoa_to) in enumerate(stretches):
         p = _loop_params(loop_data, line, profile, eoa_from)
         target = Target(eoa_from, Fraction(0), Fraction(0))
-        reach = [
+        reached = (
             j
-            for j in range(k + 1)
+            for j in range(k, 0, -1)  # nearest first: the EBD's speed only grows backward
             if profile.starts_m[j] < eoa_from
             and ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap * cap
-        ]
-        first = max(reach) if reach else 0
+        )
+        first = next(reached, 0)
         starts = [profile.starts_m[j] for j in range(first, k + 1)]
         values = [profile.values[j] for j in range(first, k + 1)]
         if first > 0:
@@ -221,7 +221,7 @@ def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window,
         if eoa_to < profile.end_m:
             starts, values = [*starts, eoa_to], [*values, steepest]
         window = _merged(starts, values, profile.end_m)
-        windows.append(Window(index, eoa_from, eoa_to, profile.starts_m[first] if reach else Fraction(0), window, cap))
+        windows.append(Window(index, eoa_from, eoa_to, profile.starts_m[first], window, cap))
     return tuple(windows)
 
 
