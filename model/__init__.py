@@ -5,7 +5,7 @@ under every backend.
 """
 
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
-from atcs.model.closed_loop import CLOSED_LOOP
+from atcs.model.closed_loop import CLOSED_LOOP, DECREASE_LOOP
 from atcs.model.curves import (
     ADHESION,
     CEILING_OFFSET,
@@ -20,7 +20,7 @@ from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
-from atcs.model.plant import PLANT
+from atcs.model.plant import PLANT, PLANT_PAIR
 from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.psl import MRSP_UPDATE, PSL
@@ -38,7 +38,9 @@ NODES: dict[str, Node] = {
         DECELERATION,
         CURVES,
         PLANT,
+        PLANT_PAIR,
         CLOSED_LOOP,
+        DECREASE_LOOP,
         POSITION,
         POSITION_LOOP,
         RESOURCES,

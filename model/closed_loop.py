@@ -18,12 +18,12 @@ include one cycle more than the plant's delays after the command.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from fractions import Fraction
 from typing import Generic
 
-from atcs.model.curves import DESIGN_CASE_SIZES, Target, gradient_acceleration_mps2
-from atcs.model.dynamic_profile import exceedances, limits_at
+from atcs.model.curves import DESIGN_CASE_SIZES, FAR_M, CurveLocations, Target, gradient_acceleration_mps2
+from atcs.model.dynamic_profile import ebd_foot_mps, exceedances, limits_at
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import (
@@ -86,13 +86,26 @@ def worst_acceleration_mps2(o: Ops, p: ClosedLoopParams):
     return p.max_acceleration_mps2 + o.max(o.const(0), *downhill)
 
 
-def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs, eoa_m):
-    """One ATP cycle against the end of authority ``eoa_m``: returns (next supervision state, commands, curve)."""
-    front = i.measured_front_m + p.position_error_m
-    speed = i.measured_speed_mps
+def eoa_target(o: Ops, eoa_m) -> Target:
+    """The end of authority as a target: speed 0, its EBD ending at standstill there (Subset-026 §3.13.8.3.2)."""
     zero = o.const(0)
-    target = Target(eoa_m, zero, zero)
-    curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), p.mrsp_mps, speed, worst_acceleration_mps2(o, p))
+    return Target(eoa_m, zero, zero)
+
+
+def max_safe_front_m(p, i):
+    """The measured front plus the odometry's bound: the max safe front the ATP supervises."""
+    return i.measured_front_m + p.position_error_m
+
+
+def atp_cycle(o: Ops, p, s: ClosedLoopState, i: ClosedLoopInputs, target: Target, mrsp_mps, supervised=None):
+    """One ATP cycle against ``target`` (only while ``supervised`` holds, when given) and the ceilings of the MRSP
+    ``mrsp_mps``: returns (next supervision state, commands, the target's curves)."""
+    front = max_safe_front_m(p, i)
+    speed = i.measured_speed_mps
+    curve, ceiling = limits_at(o, p, p, plant_gradient(p), (target,), mrsp_mps, speed, worst_acceleration_mps2(o, p))
+    if supervised is not None:
+        far = o.const(FAR_M)
+        curve = CurveLocations(**{f.name: o.ite(supervised, getattr(curve, f.name), far) for f in fields(curve)})
     over = exceedances(o, curve, ceiling, front, speed)
     # the measurement assumption (front within position_error_m of the truth) is what a valid position gives
     state, commands = supervise(
@@ -101,20 +114,20 @@ def atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInpu
     return state, commands, curve
 
 
-def closed_loop_init(o: Ops, p: ClosedLoopParams, s: ClosedLoopState):
-    """Power-up at standstill behind the EoA with the emergency brake applied."""
-    return o.and_(supervision_init(o, p, s), plant_init(o, p, s), s.front_m <= p.eoa_m)
+def eoa_atp_cycle(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    """The closed loop's ATP: the end of authority and the ceilings of the one MRSP value."""
+    return atp_cycle(o, p, s, i, eoa_target(o, p.eoa_m), p.mrsp_mps)
 
 
-def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
-    atp, commands, curve = atp_cycle(o, p, s, i, p.eoa_m)
+def _loop_step(o: Ops, p, s: ClosedLoopState, i: ClosedLoopInputs, atp):
+    supervision, commands, curve = atp(o, p, s, i)
     plant = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     state = ClosedLoopState(
         front_m=plant.front_m,
         speed_mps=plant.speed_mps,
         brake_cycles=plant.brake_cycles,
-        eb_latched=atp.eb_latched,
-        sb_latched=atp.sb_latched,
+        eb_latched=supervision.eb_latched,
+        sb_latched=supervision.sb_latched,
     )
     return state, ClosedLoopOutputs(
         warning=commands.warning,
@@ -125,10 +138,23 @@ def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedL
     )
 
 
+def _loop_admits(o: Ops, p, s: ClosedLoopState, i: ClosedLoopInputs, atp):
+    _, commands, _ = atp(o, p, s, i)
+    return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
+
+
+def closed_loop_init(o: Ops, p: ClosedLoopParams, s: ClosedLoopState):
+    """Power-up at standstill behind the EoA with the emergency brake applied."""
+    return o.and_(supervision_init(o, p, s), plant_init(o, p, s), s.front_m <= p.eoa_m)
+
+
+def closed_loop_step(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    return _loop_step(o, p, s, i, eoa_atp_cycle)
+
+
 def closed_loop_admits(o: Ops, p: ClosedLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
     """The plant's bounds for this cycle's motion, under the command the ATP gives."""
-    _, commands, _ = atp_cycle(o, p, s, i, p.eoa_m)
-    return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
+    return _loop_admits(o, p, s, i, eoa_atp_cycle)
 
 
 CLOSED_LOOP = Node(
@@ -143,6 +169,57 @@ CLOSED_LOOP = Node(
     sizes=DESIGN_CASE_SIZES,
 )
 """ATP + plant for proofs: 2 compensated-gradient segments, one-step brake tables."""
+
+
+@dataclass(frozen=True)
+class DecreaseLoopParams(PlantParams[N, B], TrainData[N, B], NationalData[N, B]):
+    service_brake_fitted: B
+    mrsp_mps: N
+    """The MRSP before the decrease."""
+    decrease_m: N
+    """Where the MRSP decreases: the target's location."""
+    mrsp_after_mps: N
+    """The MRSP from the decrease on."""
+    position_error_m: N
+    """The odometry's bound: the measured front is within this distance of the true front."""
+
+
+def decrease_atp_cycle(o: Ops, p: DecreaseLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    """The ATP against one speed decrease of the MRSP (Subset-026 §3.13.8.3.1, §3.13.10.3): the decrease is a target
+    of the lower speed, its EBD ending at ``V_target + dV_ebi(V_target)``, supervised while the max safe front is
+    short of it; the ceilings are the MRSP's at the max safe front."""
+    ahead = max_safe_front_m(p, i) < p.decrease_m
+    target = Target(p.decrease_m, p.mrsp_after_mps, ebd_foot_mps(o, p, p.mrsp_after_mps))
+    return atp_cycle(o, p, s, i, target, o.ite(ahead, p.mrsp_mps, p.mrsp_after_mps), ahead)
+
+
+def decrease_loop_init(o: Ops, p: DecreaseLoopParams, s: ClosedLoopState):
+    """Power-up at standstill anywhere with the emergency brake applied."""
+    return o.and_(supervision_init(o, p, s), plant_init(o, p, s))
+
+
+def decrease_loop_step(o: Ops, p: DecreaseLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    return _loop_step(o, p, s, i, decrease_atp_cycle)
+
+
+def decrease_loop_admits(o: Ops, p: DecreaseLoopParams, s: ClosedLoopState, i: ClosedLoopInputs):
+    """The plant's bounds for this cycle's motion, under the command the ATP gives."""
+    return _loop_admits(o, p, s, i, decrease_atp_cycle)
+
+
+DECREASE_LOOP = Node(
+    name="decrease_loop",
+    params=DecreaseLoopParams,
+    state=ClosedLoopState,
+    inputs=ClosedLoopInputs,
+    outputs=ClosedLoopOutputs,
+    init=decrease_loop_init,
+    step=decrease_loop_step,
+    seed="000 §2.4.2, 002 §3.2",
+    sizes=DESIGN_CASE_SIZES,
+)
+"""ATP + plant for proofs against one speed decrease of the MRSP (no end of authority: one elsewhere only adds
+braking, docs/configuration.md "Windows")."""
 
 
 def worst_case_at_brake(o, p, front_m, speed_mps, cycles: int, traction_cycles: int, build_up_cycles: int):

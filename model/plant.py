@@ -29,7 +29,7 @@ from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.deceleration import gradient_deceleration_mps2
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile
 
@@ -167,3 +167,56 @@ PLANT = Node(
     seed="000 §2.5, docs/design.md closed loop",
     sizes={"gradient_starts_m": 2, "gradient_permille": 2},
 )
+
+
+# --- one cycle's motion judged under two emergency-brake histories -------------------------------------------------
+
+
+@dataclass(frozen=True)
+class PlantPairInputs(Generic[N, B]):
+    """A state and a cycle's motion, with two emergency-brake commands and counters: the ATP's of one closed loop
+    and of another (docs/configuration.md "Windows": a line's ATP brakes at least whenever a window's does)."""
+
+    front_m: N
+    speed_mps: N
+    brake_cycles: N
+    emergency_brake: B
+    other_brake_cycles: N
+    other_emergency_brake: B
+    next_speed_mps: N
+    distance_m: N
+
+
+@dataclass(frozen=True)
+class PlantPairOutputs(Generic[N, B]):
+    admissible: B
+    """The motion is within the plant's bounds under the first command and counter."""
+    other_admissible: B
+    """The motion is within the plant's bounds under the other command and counter."""
+    next_brake_cycles: N
+    other_next_brake_cycles: N
+
+
+def plant_pair_step(o: Ops, p: PlantParams, s: Stateless, i: PlantPairInputs):
+    state = PlantState(i.front_m, i.speed_mps, i.brake_cycles)
+    other = PlantState(i.front_m, i.speed_mps, i.other_brake_cycles)
+    motion = (i.next_speed_mps, i.distance_m)
+    return s, PlantPairOutputs(
+        admissible=plant_admits(o, p, state, i.emergency_brake, *motion),
+        other_admissible=plant_admits(o, p, other, i.other_emergency_brake, *motion),
+        next_brake_cycles=plant_next(o, p, state, i.emergency_brake, *motion).brake_cycles,
+        other_next_brake_cycles=plant_next(o, p, other, i.other_emergency_brake, *motion).brake_cycles,
+    )
+
+
+PLANT_PAIR = stateless_node(
+    name="plant_pair",
+    params=PlantParams,
+    inputs=PlantPairInputs,
+    outputs=PlantPairOutputs,
+    step=plant_pair_step,
+    seed="000 §2.5, docs/configuration.md windows",
+    sizes={"gradient_starts_m": 2, "gradient_permille": 2},
+)
+""":func:`plant_admits` and the brake counter of one cycle under two emergency-brake histories, for the side
+condition of the line's windows (more braking commanded admits fewer motions)."""

@@ -20,7 +20,7 @@ from atcs.model.authority import (
     AuthorityState,
     authority_step,
 )
-from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle
+from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle, eoa_target
 from atcs.model.curves import DESIGN_CASE_SIZES, MIN_SPAN
 from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
@@ -118,7 +118,7 @@ def two_train_init(o: Ops, p: TwoTrainParams, s: TwoTrainState):
 
 def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs):
     reports, ma = follower_authority(o, p, s, i)
-    atp, commands, _ = atp_cycle(o, p, s, i, ma.eoa_m)
+    atp, commands, _ = atp_cycle(o, p, s, i, eoa_target(o, ma.eoa_m), p.mrsp_mps)
     follower = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
     leader_rear = s.leader_rear_m + i.leader_distance_m
     state = TwoTrainState(
@@ -146,7 +146,7 @@ def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInput
 
 def two_train_admits(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInputs):
     """The follower's plant bounds for this cycle's motion, under the command its ATP gives."""
-    _, commands, _ = atp_cycle(o, p, s, i, follower_authority(o, p, s, i)[1].eoa_m)
+    _, commands, _ = atp_cycle(o, p, s, i, eoa_target(o, follower_authority(o, p, s, i)[1].eoa_m), p.mrsp_mps)
     return plant_admits(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
 
 

@@ -21,7 +21,9 @@ from fractions import Fraction
 
 from atcs.model.closed_loop import (
     CLOSED_LOOP,
+    DECREASE_LOOP,
     closed_loop_admits,
+    decrease_loop_admits,
     whole_cycles,
     worst_acceleration_mps2,
     worst_case_at_brake,
@@ -35,12 +37,12 @@ from atcs.model.curves import (
     ebd_location_m,
     ebd_speed2_at,
 )
-from atcs.model.dynamic_profile import ceilings
-from atcs.model.plant import max_gradient_acceleration_mps2, plant_gradient
+from atcs.model.dynamic_profile import ceilings, ebd_foot_mps
+from atcs.model.plant import PLANT_PAIR, max_gradient_acceleration_mps2, plant_gradient
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
 from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import preset_data
-from atcs.properties.curves import MAX_LINE_M
+from atcs.properties.curves import MAX_LINE_M, sized_node
 from atcs.properties.property import Assumption, Property
 
 PRESETS = {name: preset_data(train(), national()) for name, (train, national) in TRAIN_PRESETS.items()}
@@ -356,6 +358,172 @@ def _no_spurious_eb(o, p, s, i, out, nxt):
             i.measured_speed_mps > ebi_ceiling_mps(o, p),
             o.and_(s.eb_latched, o.not_(released)),
         ),
+    )
+
+
+# --- one speed decrease of the MRSP as a target --------------------------------------------------------------------
+
+
+def _decrease_setting(o, p, s, i):
+    zero = o.const(0)
+    return o.and_(
+        is_well_formed(o, plant_gradient(p)),
+        zero <= p.decrease_m,
+        p.decrease_m <= p.line_end_m,
+        p.line_end_m <= o.const(MAX_LINE_M),
+        zero <= p.mrsp_after_mps,
+        p.mrsp_after_mps <= p.mrsp_mps,
+        p.mrsp_mps <= o.const(Fraction(MAX_SPEED_KMH) / KMH_PER_MPS),
+        p.position_error_m >= zero,
+    )
+
+
+DECREASE_SETTING = Assumption(
+    "setting",
+    f"the compensated gradient profile is well formed, the decrease lies on a line of at most {MAX_LINE_M} m, the "
+    f"MRSP decreases there and is within [0, {MAX_SPEED_KMH}] km/h, the odometry error bound is >= 0",
+    _decrease_setting,
+)
+
+DECREASE_ASSUMPTIONS = (
+    DECREASE_SETTING,
+    TIMING,
+    MEASUREMENT,
+    Assumption(
+        "plant",
+        "each cycle's motion is within the plant's bounds (model/plant.py) under the ATP's emergency-brake command",
+        decrease_loop_admits,
+    ),
+)
+
+
+def decrease_target(o, p) -> Target:
+    """The decrease as the ATP supervises it: the lower speed, the EBD ending at ``V_target + dV_ebi(V_target)``."""
+    return Target(p.decrease_m, p.mrsp_after_mps, ebd_foot_mps(o, p, p.mrsp_after_mps))
+
+
+def decrease_invariant(o, p, s, n_t: int, n_be: int):
+    """CL-08's invariant: :func:`braking_invariant` for the decrease's target, or the true speed already within the
+    closed loop's margin of the EBD's foot (the lower MRSP's EBI ceiling), which the ceiling keeps once the max safe
+    front is past the decrease; and under the higher MRSP's EBI ceiling with the margin."""
+    target = decrease_target(o, p)
+    foot = target.ebd_foot_mps
+    gradient = plant_gradient(p)
+    top = ebi_ceiling_mps(o, p)
+    cases = []
+    for c in range(n_be):
+        front, speed = worst_case_at_brake(o, p, s.front_m, s.speed_mps, c, n_t, n_be)
+        margin = ceiling_margin_mps(o, p, c, n_t)
+        cases.append(
+            o.and_(
+                o.eq(s.brake_cycles, o.const(c)),
+                o.or_(front <= ebd_location_m(o, p, p, gradient, target, speed), s.speed_mps <= foot + margin),
+                s.speed_mps <= top + margin,
+            )
+        )
+    margin = ceiling_margin_mps(o, p, n_be, n_t)
+    braking = o.and_(
+        o.eq(s.brake_cycles, o.const(n_be)),
+        s.eb_latched,
+        o.or_(
+            s.speed_mps * s.speed_mps <= ebd_speed2_at(o, p, p, gradient, target, s.front_m),
+            s.speed_mps <= foot + margin,
+        ),
+        s.speed_mps <= top + margin,
+    )
+    return o.and_(s.speed_mps >= o.const(0), o.or_(*cases, braking))
+
+
+def decrease_properties(tag: str, fixed: dict) -> tuple[Property, ...]:
+    """The theorems of one speed decrease of the MRSP for one set of fixed data, named ``*_<tag>``."""
+    n_t, n_be = whole_cycles(tag, fixed)
+    common = dict(node=DECREASE_LOOP, assumptions=DECREASE_ASSUMPTIONS, fixed_params=fixed, **brake_cycle_splits(n_be))
+    invariant = f"closed_loop.decrease_invariant_{tag}"
+    return (
+        Property(
+            name=invariant,
+            requirement="CL-08",
+            seed="000 §2.4.2; Subset-026 3.13.8.3.1, 3.13.10.3",
+            text=(
+                f"{tag}: with c cycles of EB command so far (c < the build-up), the worst-case state when the brake "
+                "becomes effective is behind the decrease's EBD for its speed, or the true speed is within the "
+                "ceiling margin for c of the lower MRSP's EBI ceiling; with the brake effective, the true speed is "
+                "under the EBD at the true front or within that margin; always within the margin of the higher "
+                "MRSP's EBI ceiling."
+            ),
+            holds=lambda o, p, s, i, out, nxt: decrease_invariant(o, p, s, n_t, n_be),
+            **common,
+        ),
+        Property(
+            name=f"closed_loop.under_decrease_{tag}",
+            requirement="CL-09",
+            seed="000 §2.4.2, 002 §3.2; Subset-026 3.13.10.3",
+            text=(
+                f"{tag}: whatever the driver or ATO commands, once the true front is at or past the speed decrease "
+                "the true speed is at most the lower MRSP + dV_ebi plus V_ura + A_est1 * T_traction + A_est2 * "
+                "(T_be - T_traction) (the EBI's own margin, with the worst-case acceleration)."
+            ),
+            holds=lambda o, p, s, i, out, nxt: o.implies(
+                s.front_m >= p.decrease_m,
+                s.speed_mps <= ebd_foot_mps(o, p, p.mrsp_after_mps) + ceiling_margin_mps(o, p, n_be, n_t),
+            ),
+            lemmas=(invariant,),
+            **common,
+        ),
+    )
+
+
+# --- the side condition of the line's windows: more braking commanded admits fewer motions ------------------------
+
+
+def _brake_histories(o, p, s, i):
+    zero = o.const(0)
+    return o.and_(
+        is_well_formed(o, plant_gradient(p)),
+        p.cycle_s > zero,
+        p.max_acceleration_mps2 >= zero,
+        p.guaranteed_deceleration_mps2 >= zero,
+        i.speed_mps >= zero,
+        o.implies(i.other_emergency_brake, i.emergency_brake),
+        zero <= i.other_brake_cycles,
+        i.other_brake_cycles <= i.brake_cycles,
+        i.brake_cycles <= p.brake_build_up_cycles,
+    )
+
+
+BRAKE_HISTORIES = Assumption(
+    "brake_histories",
+    "the other command brakes only when the first does, its counter is between 0 and the first's, the first's at "
+    "most the build-up; the profile is well formed, the cycle positive, A_max and the guaranteed deceleration >= 0",
+    _brake_histories,
+)
+
+
+def braking_order_property(name: str, fixed: dict) -> Property:
+    """CL-10: a motion the plant admits under an emergency-brake command and counter is admitted under any command
+    given only when that one is and any counter not above it, and the counters stay so ordered: a closed loop whose
+    ATP brakes at least whenever another's does runs only motions the other's plant admits."""
+    plant_fixed = {key: value for key, value in fixed.items() if key in PLANT_PAIR.sorts("params")}
+
+    def holds(o, p, s, i, out, nxt):
+        return o.implies(
+            out.admissible,
+            o.and_(out.other_admissible, out.other_next_brake_cycles <= out.next_brake_cycles),
+        )
+
+    return Property(
+        name=name,
+        requirement="CL-10",
+        seed="000 §2.5; docs/configuration.md windows",
+        text=(
+            "a motion admitted under an EB command and brake counter is admitted under any command given only when "
+            "that one is and any counter not above it, and the next counters keep that order"
+        ),
+        node=sized_node(PLANT_PAIR, plant_fixed),
+        holds=holds,
+        assumptions=(BRAKE_HISTORIES,),
+        fixed_params=plant_fixed,
+        max_k=0,
     )
 
 

@@ -29,17 +29,22 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from atcs.model.braking_data import guidance_data
-from atcs.model.closed_loop import CLOSED_LOOP, ClosedLoopParams, whole_cycles, worst_acceleration_mps2
+from atcs.model.closed_loop import CLOSED_LOOP, DECREASE_LOOP, ClosedLoopParams, whole_cycles, worst_acceleration_mps2
 from atcs.model.configuration import Configuration, ConfiguredTrain, Line, train_with
 from atcs.model.curves import CURVES, Target, bec_speed_and_distance, curve_gradient, curve_target, ebd_speed2_at
-from atcs.model.dynamic_profile import ceilings
+from atcs.model.dynamic_profile import ceilings, ebd_foot_mps
 from atcs.model.node import as_dict
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import plant_gradient
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import extend_by_train_length
 from atcs.model.train_data import preset_data, whole_cycle_train
-from atcs.properties.closed_loop import ceiling_margin_mps, closed_loop_properties
+from atcs.properties.closed_loop import (
+    braking_order_property,
+    ceiling_margin_mps,
+    closed_loop_properties,
+    decrease_properties,
+)
 from atcs.properties.curves import curve_properties, sized_node
 from atcs.properties.property import Assumption, Property
 
@@ -78,6 +83,12 @@ def compensated_gradients(line: Line, train_length_m) -> Profile:
     if values[0] == behind:
         return Profile(tuple(starts), tuple(values), c.end_m)
     return Profile((Fraction(0), *(s + 1 for s in starts)), (behind, *values), c.end_m + 1)
+
+
+def compensation_shift_m(line: Line, train_length_m) -> Fraction:
+    """How far :func:`compensated_gradients` shifts the line ahead: 1 m when it gives a leading segment, else 0."""
+    c = extend_by_train_length(EXACT, line.gradients, train_length_m)
+    return compensated_gradients(line, train_length_m).end_m - c.end_m
 
 
 def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], ...]:
@@ -189,13 +200,37 @@ z3 proves a window's braking invariant in seconds for an 800 m stretch and not i
 (docs/configuration.md "Windows")."""
 
 
+def _window_start(profile: Profile, loop_data: dict, line: Line, target: Target, k: int, cap_mps) -> int:
+    """The index of the last breakpoint of ``profile``, behind ``target`` and at most segment ``k``, at which the
+    EBD of ``target`` is already above the speed cap (0 if there is none)."""
+    p = _loop_params(loop_data, line, profile, target.location_m)
+    reached = (
+        j
+        for j in range(k, 0, -1)  # nearest first: the EBD's speed only grows backward
+        if profile.starts_m[j] < target.location_m
+        and ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap_mps * cap_mps
+    )
+    return next(reached, 0)
+
+
+def _window_profile(profile: Profile, first: int, k: int, to_m) -> Profile:
+    """``profile`` on segments ``first`` to ``k`` up to ``to_m``, its steepest downhill elsewhere."""
+    steepest = min(profile.values)
+    starts = [profile.starts_m[j] for j in range(first, k + 1)]
+    values = [profile.values[j] for j in range(first, k + 1)]
+    if first > 0:
+        starts, values = [Fraction(0), *starts], [steepest, *values]
+    if to_m < profile.end_m:
+        starts, values = [*starts, to_m], [*values, steepest]
+    return _merged(starts, values, profile.end_m)
+
+
 def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window, ...]:
     """The windows of the compensated ``profile``: each segment's ends of authority in stretches of at most
     :data:`MAX_WINDOW_EOA_M`, one window each. A window starts at the last breakpoint behind its stretch where
     the EBD of an end of authority at the stretch's start is already above the speed cap (at the line's start if
     there is none)."""
     cap = speed_cap_mps(loop_data, line, profile)
-    steepest = min(profile.values)
     ends = (*profile.starts_m[1:], profile.end_m)
     stretches = []
     for k, (start, end) in enumerate(zip(profile.starts_m, ends, strict=True)):
@@ -205,23 +240,52 @@ def line_windows(profile: Profile, loop_data: dict, line: Line) -> tuple[Window,
         ]
     windows = []
     for index, (k, eoa_from, eoa_to) in enumerate(stretches):
-        p = _loop_params(loop_data, line, profile, eoa_from)
-        target = Target(eoa_from, Fraction(0), Fraction(0))
-        reached = (
-            j
-            for j in range(k, 0, -1)  # nearest first: the EBD's speed only grows backward
-            if profile.starts_m[j] < eoa_from
-            and ebd_speed2_at(EXACT, p, p, plant_gradient(p), target, profile.starts_m[j]) >= cap * cap
-        )
-        first = next(reached, 0)
-        starts = [profile.starts_m[j] for j in range(first, k + 1)]
-        values = [profile.values[j] for j in range(first, k + 1)]
-        if first > 0:
-            starts, values = [Fraction(0), *starts], [steepest, *values]
-        if eoa_to < profile.end_m:
-            starts, values = [*starts, eoa_to], [*values, steepest]
-        window = _merged(starts, values, profile.end_m)
+        first = _window_start(profile, loop_data, line, Target(eoa_from, Fraction(0), Fraction(0)), k, cap)
+        window = _window_profile(profile, first, k, eoa_to)
         windows.append(Window(index, eoa_from, eoa_to, profile.starts_m[first], window, cap))
+    return tuple(windows)
+
+
+@dataclass(frozen=True)
+class DecreaseWindow:
+    """A window of a line for one speed decrease of its speed limits (docs/configuration.md "Speed decreases"): the
+    decrease's theorems are proved on ``profile``, the line's compensated profile from ``start_m`` to the decrease
+    and its steepest downhill elsewhere, with the MRSP the line's top speed limit before the decrease and
+    ``speed_after_mps`` from it on."""
+
+    index: int
+    location_m: Fraction
+    speed_after_mps: Fraction
+    start_m: Fraction
+    profile: Profile
+    speed_cap_mps: Fraction
+
+
+def speed_decreases(line: Line) -> tuple[tuple[Fraction, Fraction], ...]:
+    """``(location, lower speed)`` of each decrease of ``line``'s speed limits."""
+    limits = line.speed_limits
+    return tuple(
+        (start, after)
+        for start, before, after in zip(limits.starts_m[1:], limits.values, limits.values[1:], strict=False)
+        if after < before
+    )
+
+
+def decrease_windows(
+    profile: Profile, shift_m: Fraction, loop_data: dict, line: Line, national
+) -> tuple[DecreaseWindow, ...]:
+    """One window per speed decrease of ``line`` (at its location plus ``shift_m`` on the compensated ``profile``):
+    from the last breakpoint behind it where the decrease's EBD is already above the speed cap (as
+    :func:`line_windows`) to the decrease."""
+    cap = speed_cap_mps(loop_data, line, profile)
+    windows = []
+    for index, (line_location, after) in enumerate(speed_decreases(line)):
+        location = line_location + shift_m
+        k = max(j for j, start in enumerate(profile.starts_m) if start < location)
+        target = Target(location, after, ebd_foot_mps(EXACT, national, after))
+        first = _window_start(profile, loop_data, line, target, k, cap)
+        window = _window_profile(profile, first, k, location)
+        windows.append(DecreaseWindow(index, location, after, profile.starts_m[first], window, cap))
     return tuple(windows)
 
 
@@ -237,26 +301,24 @@ def _in_window(w: Window, top_mps: Fraction) -> Assumption:
     )
 
 
-def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_mps) -> Property:
-    """CL-07: the EBD of every end of authority in the window, on the line's own profile, is above the speed cap
-    (:func:`speed_cap`, of the node's own parameters, so a train data range covers it too) at the window's start,
-    so every curve location the ATP computes lies within the window."""
+def _reach(
+    name: str, what: str, start_m, cap_mps, loop_data: dict, profile: Profile, top_mps, target: dict, assumptions
+):
+    """CL-07: the EBD of ``what`` (the target ``target`` fixes, under ``assumptions``), on the line's own profile,
+    is above the speed cap (:func:`speed_cap`, of the node's own parameters, so a train data range covers it too)
+    at the window's start ``start_m``, so every curve location the ATP computes for it lies within the window."""
     fixed = {key: loop_data[key] for key in CURVES.sorts("params") if key in loop_data}
     fixed |= {
         "gradient_starts_m": profile.starts_m,
         "gradient_permille": profile.values,
         "line_end_m": profile.end_m,
-        "target_speed_mps": Fraction(0),
-        "target_ebd_foot_mps": Fraction(0),
+        **target,
     }
     n_t, n_be = whole_cycles("window", loop_data)
     cycle_s = loop_data["cycle_s"]
 
-    def in_window(o, p, s, i):
-        return o.and_(o.const(w.eoa_from_m) <= p.target_m, p.target_m <= o.const(w.eoa_to_m))
-
     def holds(o, p, s, i, out, nxt):
-        speed2 = ebd_speed2_at(o, p, p, curve_gradient(p), curve_target(p), o.const(w.start_m))
+        speed2 = ebd_speed2_at(o, p, p, curve_gradient(p), curve_target(p), o.const(start_m))
         cap = speed_cap(o, p, top_mps, cycle_s, n_t, n_be)
         return cap * cap <= speed2
 
@@ -265,17 +327,43 @@ def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_m
         requirement="CL-07",
         seed="000 §2.4; docs/configuration.md windows",
         text=(
-            f"the EBD of an end of authority anywhere in [{w.eoa_from_m}, {w.eoa_to_m}] m is above the speed cap "
-            f"(V_bec at the measured speed of the closed loop's ceiling at {float(top_mps * KMH_PER_MPS):g} km/h; "
-            f"{float(w.speed_cap_mps * KMH_PER_MPS):.3f} km/h with the train's data) at the window's start, "
-            f"{w.start_m} m"
+            f"the EBD of {what} is above the speed cap (V_bec at the measured speed of the closed loop's ceiling at "
+            f"{float(top_mps * KMH_PER_MPS):g} km/h; {float(cap_mps * KMH_PER_MPS):.3f} km/h with the train's "
+            f"data) at the window's start, {start_m} m"
         ),
         node=sized_node(CURVES, fixed),
         holds=holds,
-        assumptions=(Assumption("eoa_in_window", f"the target lies in [{w.eoa_from_m}, {w.eoa_to_m}] m", in_window),),
+        assumptions=assumptions,
         fixed_params=fixed,
         max_k=0,
     )
+
+
+def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_mps) -> Property:
+    """CL-07 for the ends of authority of window ``w``."""
+
+    def in_window(o, p, s, i):
+        return o.and_(o.const(w.eoa_from_m) <= p.target_m, p.target_m <= o.const(w.eoa_to_m))
+
+    stretch = f"[{w.eoa_from_m}, {w.eoa_to_m}] m"
+    return _reach(
+        name,
+        f"an end of authority anywhere in {stretch}",
+        w.start_m,
+        w.speed_cap_mps,
+        loop_data,
+        profile,
+        top_mps,
+        {"target_speed_mps": Fraction(0), "target_ebd_foot_mps": Fraction(0)},
+        (Assumption("eoa_in_window", f"the target lies in {stretch}", in_window),),
+    )
+
+
+def _decrease_reach(name: str, w: DecreaseWindow, foot_mps, loop_data: dict, profile: Profile, top_mps) -> Property:
+    """CL-07 for the speed decrease of window ``w``."""
+    target = {"target_m": w.location_m, "target_speed_mps": w.speed_after_mps, "target_ebd_foot_mps": foot_mps}
+    what = f"the speed decrease to {float(w.speed_after_mps * KMH_PER_MPS):g} km/h at {w.location_m} m"
+    return _reach(name, what, w.start_m, w.speed_cap_mps, loop_data, profile, top_mps, target, ())
 
 
 def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:
@@ -310,6 +398,26 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
         ]
         if w.start_m > 0:
             props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile, top))
+        props.append(braking_order_property(f"closed_loop.braking_order_{tag}_w{w.index}", fixed))
+    shift = compensation_shift_m(line, train.train_length_m)
+    for w in decrease_windows(profile, shift, own_data, line, t.national):
+        foot = ebd_foot_mps(EXACT, t.national, w.speed_after_mps)
+        fixed = {
+            **loop_data,
+            "gradient_starts_m": w.profile.starts_m,
+            "gradient_permille": w.profile.values,
+            "line_end_m": w.profile.end_m,
+            "mrsp_mps": top,
+            "decrease_m": w.location_m,
+            "mrsp_after_mps": w.speed_after_mps,
+        }
+        decrease_node = sized_node(DECREASE_LOOP, fixed)
+        props += [dataclasses.replace(p, node=decrease_node) for p in decrease_properties(f"{tag}_d{w.index}", fixed)]
+        if w.start_m > 0:
+            props.append(
+                _decrease_reach(f"closed_loop.decrease_reach_{tag}_d{w.index}", w, foot, loop_data, profile, top)
+            )
+        props.append(braking_order_property(f"closed_loop.braking_order_{tag}_d{w.index}", fixed))
     return tuple(props)
 
 

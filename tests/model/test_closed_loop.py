@@ -52,11 +52,11 @@ def _kind(name):
 MUTANTS = {
     "braking_invariant": [
         # the max safe front taken without the odometry error
-        (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m"),
+        (closed_loop.max_safe_front_m, "i.measured_front_m + p.position_error_m", "i.measured_front_m"),
     ],
     "no_overrun": [
         # the max safe front taken without the odometry error
-        (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m"),
+        (closed_loop.max_safe_front_m, "i.measured_front_m + p.position_error_m", "i.measured_front_m"),
         # EB at the EBD instead of the EBI
         (dynamic_profile.exceedances, "front_m > curve.ebi_m", "front_m > curve.ebd_m"),
         # EBI without the speed gained during the brake build-up time
@@ -79,7 +79,7 @@ MUTANTS = {
         (dynamic_profile.exceedances, "front_m > curve.ebi_m", "front_m > curve.ebd_m"),
     ],
     "no_spurious_eb": [
-        # the position taken as invalid: EB in every cycle (atcs mutate's const_bool at atp_cycle:+11)
+        # the position taken as invalid: EB in every cycle (atcs mutate's const_bool in atp_cycle)
         (closed_loop.atp_cycle, "o.const_bool(True)", "o.const_bool(False)"),
     ],
     "supervises_eoa_and_ceilings": [
@@ -146,16 +146,14 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
 @pytest.mark.parametrize(
     ("old", "new"),
     [
-        ("eb_latched=atp.eb_latched", "eb_latched=s.eb_latched"),
-        ("sb_latched=atp.sb_latched", "sb_latched=s.sb_latched"),
+        ("eb_latched=supervision.eb_latched", "eb_latched=s.eb_latched"),
+        ("sb_latched=supervision.sb_latched", "sb_latched=s.sb_latched"),
     ],
 )
 def test_latches_held_over_are_falsified(old, new):
-    """The closed loop's own step keeping last cycle's latch (atcs mutate's delay_hold at closed_loop_step:+6):
+    """The closed loop's own step keeping last cycle's latch (atcs mutate's delay_hold in _loop_step):
     CL-05 falsified, its counterexample replays on the mutant and not on the model."""
-    run = falsify(
-        COARSE["closed_loop.state_follows_plant_and_atp_coarse"], closed_loop.closed_loop_step, old, new, max_k=2
-    )
+    run = falsify(COARSE["closed_loop.state_follows_plant_and_atp_coarse"], closed_loop._loop_step, old, new, max_k=2)
     assert run.killed, run
 
 
@@ -199,7 +197,7 @@ def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
             next_speed_mps=Fraction(0),
             distance_m=Fraction(0),
         )
-        _, commands, _ = closed_loop.atp_cycle(EXACT, params, s, measured, params.eoa_m)
+        _, commands, _ = closed_loop.eoa_atp_cycle(EXACT, params, s, measured)
         eb_cycles += commands.emergency_brake
         next_speed, distance = worst_case_driver(
             params, s, measured.measured_speed_mps, params.mrsp_mps, commands.emergency_brake

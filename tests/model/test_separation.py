@@ -14,7 +14,7 @@ from hypothesis import Phase, event, example, given, settings
 from hypothesis import strategies as st
 
 from atcs.model import authority, separation
-from atcs.model.closed_loop import atp_cycle
+from atcs.model.closed_loop import atp_cycle, eoa_target
 from atcs.model.ops.exact import EXACT
 from atcs.model.separation import TWO_TRAINS, TwoTrainInputs, TwoTrainParams, TwoTrainState
 from atcs.model.train_data import seed000_train, subset026_national
@@ -279,7 +279,7 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
             zone_start_m=Fraction(0),
         )
         eoa = separation.follower_authority(EXACT, params, s, inputs)[1].eoa_m
-        _, commands, _ = atp_cycle(EXACT, params, s, inputs, eoa)
+        _, commands, _ = atp_cycle(EXACT, params, s, inputs, eoa_target(EXACT, eoa), params.mrsp_mps)
         eb_cycles += commands.emergency_brake and k > 0
         next_speed, distance = worst_case_driver(
             params, s, inputs.measured_speed_mps, params.mrsp_mps, commands.emergency_brake

@@ -339,7 +339,7 @@ class TestFloatReplay:
         )
         prop = next(p for p in closed_loop_properties("coarse", coarse) if p.name == "closed_loop.no_overrun_coarse")
         prop = dataclasses.replace(prop, lemmas=())
-        fault = (closed_loop.atp_cycle, "front = i.measured_front_m + p.position_error_m", "front = i.measured_front_m")
+        fault = (closed_loop.max_safe_front_m, "i.measured_front_m + p.position_error_m", "i.measured_front_m")
         with patched(*fault):
             result = prove(prop, timeout_s=300, max_k=12, smooth_cex=True)
             assert result.status == "falsified" and result.smoothing.status == "minimal"

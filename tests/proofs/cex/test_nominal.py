@@ -32,9 +32,9 @@ from atcs.properties.property import Property
 LATCH = "supervision.eb_latched_until_standstill"
 # the closed loop's max safe front taken without the odometry error (tests/proofs/cex/test_counterexamples.py)
 ODOMETRY_FAULT = (
-    closed_loop.atp_cycle,
-    "front = i.measured_front_m + p.position_error_m",
-    "front = i.measured_front_m",
+    closed_loop.max_safe_front_m,
+    "i.measured_front_m + p.position_error_m",
+    "i.measured_front_m",
 )
 
 
