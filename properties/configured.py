@@ -9,14 +9,17 @@ For each train on each line, with the train's data and the configuration's natio
 - the **whole line**: CRV-08, the EBD the braking curve through every segment of the line's compensated profile
   (breakpoints and values fixed), to any target on the line;
 - the **closed loop on the line's profile**: CL-00 to CL-06 (no EoA overrun, under the ceiling) for an end of
-  authority anywhere on the line and any constant MRSP up to the line's top speed limit, one :class:`Window` per
-  stretch of at most 800 m of ends of authority, each with its CL-07 obligation (docs/configuration.md "Windows"
-  argues why the windows' theorems hold on the line).
+  authority anywhere on the line and any MRSP up to the line's top speed limit, one :class:`Window` per stretch of
+  at most 800 m of ends of authority, each with its CL-07 obligation (docs/configuration.md "Windows" argues why
+  the windows' theorems hold on the line);
+- **each speed decrease** of the line's MRSP as a target: CL-08 and CL-09 (past the decrease, under the lower
+  limit's EBI ceiling with the closed loop's margin) in a :class:`DecreaseWindow`, with its CL-07 obligation;
+- each window's side condition CL-10 (more braking commanded admits fewer motions).
 
 The closed loop runs on whole cycles: the train's T_be and T_traction are rounded up to whole cycles of the
 configuration's ``cycle_s`` (at least one), so the ATP and the plant both assume the (not shorter) rounded times.
 Names: ``curves.<kind>_<train>_<line>_<j>`` for the transition ``j``, ``curves.ebd_is_braking_curve_<train>_<line>
-_whole``, ``closed_loop.<kind>_<train>_<line>_w<k>`` for the window ``k``.
+_whole``, ``closed_loop.<kind>_<train>_<line>_w<k>`` for the window ``k``, ``..._d<k>`` for the ``k``-th decrease.
 """
 
 from __future__ import annotations
@@ -54,9 +57,11 @@ __all__ = [
     "configuration_gaps",
     "configuration_properties",
     "curve_family",
+    "decrease_windows",
     "gradient_transitions",
     "layout_train",
     "loop_family",
+    "speed_decreases",
 ]
 
 
@@ -69,26 +74,17 @@ def _slug(name: str) -> str:
 def compensated_gradients(line: Line, train_length_m) -> Profile:
     """``line``'s gradient profile compensated by the train's length (:func:`~atcs.model.psl.extend_by_train_length`)
     as a well-formed profile for the proofs: adjacent equal values merged, segments of no length on the line
-    dropped (a lower gradient binds a train's length past the line's end, where no target lies), except a
-    leading one whose value the braking walk extends behind the line's start: that one is given 1 m, the rest
-    shifted 1 m ahead (the proofs hold for every target on the line, so a shift changes nothing they cover)."""
+    dropped (a lower gradient binds a train's length past the line's end, where no target lies). Its first value is
+    the line's first, the one a braking walk extends behind the line's start: at the start only the first segment
+    binds the front."""
     c = extend_by_train_length(EXACT, line.gradients, train_length_m)
     ends = (*c.starts_m[1:], c.end_m)
-    behind = c.values[0]
     starts, values = [], []
     for start, end, value in zip(c.starts_m, ends, c.values, strict=True):
         if start < min(end, c.end_m) and not (values and values[-1] == value):
             starts.append(start)
             values.append(value)
-    if values[0] == behind:
-        return Profile(tuple(starts), tuple(values), c.end_m)
-    return Profile((Fraction(0), *(s + 1 for s in starts)), (behind, *values), c.end_m + 1)
-
-
-def compensation_shift_m(line: Line, train_length_m) -> Fraction:
-    """How far :func:`compensated_gradients` shifts the line ahead: 1 m when it gives a leading segment, else 0."""
-    c = extend_by_train_length(EXACT, line.gradients, train_length_m)
-    return compensated_gradients(line, train_length_m).end_m - c.end_m
+    return Profile(tuple(starts), tuple(values), c.end_m)
 
 
 def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], ...]:
@@ -271,16 +267,12 @@ def speed_decreases(line: Line) -> tuple[tuple[Fraction, Fraction], ...]:
     )
 
 
-def decrease_windows(
-    profile: Profile, shift_m: Fraction, loop_data: dict, line: Line, national
-) -> tuple[DecreaseWindow, ...]:
-    """One window per speed decrease of ``line`` (at its location plus ``shift_m`` on the compensated ``profile``):
-    from the last breakpoint behind it where the decrease's EBD is already above the speed cap (as
-    :func:`line_windows`) to the decrease."""
+def decrease_windows(profile: Profile, loop_data: dict, line: Line, national) -> tuple[DecreaseWindow, ...]:
+    """One window per speed decrease of ``line`` on its compensated ``profile``: from the last breakpoint behind it
+    where the decrease's EBD is already above the speed cap (as :func:`line_windows`) to the decrease."""
     cap = speed_cap_mps(loop_data, line, profile)
     windows = []
-    for index, (line_location, after) in enumerate(speed_decreases(line)):
-        location = line_location + shift_m
+    for index, (location, after) in enumerate(speed_decreases(line)):
         k = max(j for j, start in enumerate(profile.starts_m) if start < location)
         target = Target(location, after, ebd_foot_mps(EXACT, national, after))
         first = _window_start(profile, loop_data, line, target, k, cap)
@@ -399,8 +391,7 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
         if w.start_m > 0:
             props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile, top))
         props.append(braking_order_property(f"closed_loop.braking_order_{tag}_w{w.index}", fixed))
-    shift = compensation_shift_m(line, train.train_length_m)
-    for w in decrease_windows(profile, shift, own_data, line, t.national):
+    for w in decrease_windows(profile, own_data, line, t.national):
         foot = ebd_foot_mps(EXACT, t.national, w.speed_after_mps)
         fixed = {
             **loop_data,

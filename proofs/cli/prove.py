@@ -26,8 +26,8 @@ from atcs.proofs.cli._common import (
 
 SCOPE = (
     "the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere on it under "
-    "any constant MRSP up to the line's top speed limit (in windows of the line), not yet with the MRSP's decreases "
-    "as targets (docs/configuration.md)"
+    "any MRSP up to the line's top speed limit, and for each speed decrease of the line's MRSP as a target (in "
+    "windows of the line); not for an end of authority with a target speed above 0 (docs/configuration.md)"
 )
 """What ``--config``'s closed-loop theorems cover, printed before the verdicts."""
 
