@@ -16,6 +16,7 @@ from pathlib import Path
 from atcs.model.braking_data import RailTrain, curve_national_data, curve_train_data
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
+from atcs.model.platforms import Platform, PlatformDataError, Station, platform_data, station_stops
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, Profile
 from atcs.model.train_data import (
     PRESETS,
@@ -62,7 +63,16 @@ FIELDS = {
     "atp": ("cycle_s",),
     "trains": ("file", "preset", "ranges"),
     "trains.ranges": ("min", "max", "resolution"),
-    "lines": ("name", "length_m", "speed_limits", "gradients"),
+    "lines": (
+        "name",
+        "length_m",
+        "speed_limits",
+        "gradients",
+        "tag_spacing_m",
+        "resource_length_m",
+        "platforms",
+        "stations",
+    ),
 }
 """The fields of each table of a configuration (docs/configuration.md documents each)."""
 
@@ -124,12 +134,17 @@ class ConfiguredTrain:
 
 @dataclass(frozen=True)
 class Line:
-    """A line: its speed limits (m/s) and gradients (per mille, uphill positive) from 0 to ``length_m``."""
+    """A line: its speed limits (m/s) and gradients (per mille, uphill positive) from 0 to ``length_m``; for the
+    simulator, where its tags and resources repeat, its platforms and its station stops (each on a platform)."""
 
     name: str
     length_m: Fraction
     speed_limits: Profile
     gradients: Profile
+    tag_spacing_m: Fraction | None = None
+    resource_length_m: Fraction | None = None
+    platforms: tuple[Platform, ...] = ()
+    stations: tuple[Station, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -188,6 +203,11 @@ def _line(source: str, table, index: int) -> Line:
     length_m = r.number("length_m", positive=True)
     if length_m > MAX_LINE_M:
         r.fail("length_m", f"is above {MAX_LINE_M} m")
+    spacings = {}
+    for key in ("tag_spacing_m", "resource_length_m"):
+        spacings[key] = r.optional_number(key, positive=True)
+        if spacings[key] is not None and spacings[key] > length_m:
+            r.fail(key, f"must not exceed the line's length ({float(length_m):g} m)")
     return Line(
         name=r.text("name"),
         length_m=length_m,
@@ -195,7 +215,32 @@ def _line(source: str, table, index: int) -> Line:
         gradients=_segments(
             source, r, "gradients", "permille", length_m, -MAX_LINE_GRADIENT_PERMILLE, MAX_LINE_GRADIENT_PERMILLE
         ),
+        **spacings,
+        **_stops(source, r, length_m),
     )
+
+
+def _stops(source: str, r: _Reader, length_m: Fraction) -> dict:
+    """A line's platforms (the table or packet form of a scenario's ``[platforms]``, on the line) and its stations
+    (each stop on one of them)."""
+    try:
+        platforms = platform_data(r.table["platforms"], source, r.name("platforms")) if "platforms" in r.table else ()
+    except PlatformDataError as exc:
+        raise ConfigurationError(str(exc)) from None
+    for j, platform in enumerate(platforms):
+        if platform.end_m > length_m:
+            raise ConfigurationError(
+                f"{source}: {r.name('platforms')}: platform {j + 1} ends at {platform.end_m} m, past the line's end "
+                f"({float(length_m):g} m)"
+            )
+    stations = station_stops(r, "stations", length_m)
+    for j, station in enumerate(stations):
+        if not any(p.start_m <= station.stop_m <= p.end_m for p in platforms):
+            raise ConfigurationError(
+                f"{source}: {r.name('stations')}[{j}].stop_m = {station.stop_m}: no platform of "
+                f"{r.name('platforms')} spans it"
+            )
+    return {"platforms": platforms, "stations": stations}
 
 
 def _ranges(source: str, r: _Reader, t: ConfiguredTrain) -> tuple[DataRange, ...]:

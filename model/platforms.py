@@ -26,7 +26,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.bits import PacketError, hex_bytes
-from atcs.model.data_files import read_toml
+from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platform_packets import (
     M_PLATFORM_MM,
@@ -42,6 +42,29 @@ from atcs.model.platform_packets import (
 from atcs.model.profile import parse_number
 
 SIDES = ("left", "right", "both")
+
+
+@dataclass(frozen=True)
+class Station:
+    """A station stop: the ATO stops the front at ``stop_m``, opens the doors on the platform's side, waits
+    ``dwell_s`` from the doors opening, closes them and departs once they are closed and locked (seed 004 §2.1)."""
+
+    name: str
+    stop_m: Fraction
+    dwell_s: Fraction
+
+
+def station_stops(reader: TableReader, key: str, length_m: Fraction) -> tuple[Station, ...]:
+    """The stations of ``reader``'s list ``key`` (``{ name, stop_m, dwell_s }``, the name ``S<j>`` by default): each
+    stop on the line of ``length_m`` and after the previous one; errors as ``reader``'s."""
+    stations = []
+    for j, row in enumerate(reader.rows(key)):
+        x = type(reader)(reader.source, row, f"{reader.name(key)}[{j}]", ("name", "stop_m", "dwell_s"))
+        stop = x.number("stop_m", positive=True)
+        if stop > length_m or (stations and stop <= stations[-1].stop_m):
+            x.fail("stop_m", f"must be on the line ({length_m} m) and after the previous station's stop")
+        stations.append(Station(x.text("name", f"S{j + 1}"), stop, x.number("dwell_s", minimum=0)))
+    return tuple(stations)
 
 
 class PlatformDataError(AtcsInputError):
@@ -122,10 +145,10 @@ def packet_for_platforms(
     raise ValueError(f"nid_packet must be 69 or 44, got {nid_packet!r}")
 
 
-def platform_data(section: Mapping, source: str) -> tuple[Platform, ...]:
-    """The platforms of a scenario's ``[platforms]`` section (see the module docstring); ``source`` names the file
-    in errors."""
-    where = f"{source}: [platforms]"
+def platform_data(section: Mapping, source: str, field: str = "[platforms]") -> tuple[Platform, ...]:
+    """The platforms of a scenario's ``[platforms]`` section (see the module docstring), or of the table ``field``
+    in the same form; ``source`` names the file in errors."""
+    where = f"{source}: {field}"
     if not isinstance(section, Mapping):
         raise PlatformDataError(f"{where} must be a table, got {section!r}")
     unknown = sorted(set(section) - {"packet", "reference_m", "direction", "table"})

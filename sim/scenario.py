@@ -20,7 +20,7 @@ from atcs.model.braking_data import curve_train_data
 from atcs.model.configuration import ConfigurationError, load_configuration
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
-from atcs.model.platforms import Platform, PlatformDataError, platform_data
+from atcs.model.platforms import Platform, PlatformDataError, Station, platform_data, station_stops
 from atcs.model.profile import KMH_PER_MPS, parse_number
 from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import (
@@ -114,16 +114,6 @@ class TimedRestriction:
     until_s: Fraction | None
 
     active_at = Zone.active_at
-
-
-@dataclass(frozen=True)
-class Station:
-    """A station stop: the ATO stops the front at ``stop_m``, opens the doors on the platform's side, waits
-    ``dwell_s`` from the doors opening, closes them and departs once they are closed and locked."""
-
-    name: str
-    stop_m: Fraction
-    dwell_s: Fraction
 
 
 @dataclass(frozen=True)
@@ -472,8 +462,9 @@ def load_scenario(path: str | Path) -> Scenario:
     )
     configured = _configured_line(line)
     length_m = line.number("length_m", positive=True) if configured is None else configured.length_m
-    tag_spacing_m = line.number("tag_spacing_m", positive=True)
-    resource_length_m = line.number("resource_length_m", positive=True)
+    tag_spacing_m, resource_length_m = (
+        _from_line(line, configured, key) for key in ("tag_spacing_m", "resource_length_m")
+    )
     if tag_spacing_m > length_m or resource_length_m > length_m:
         raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
     layout = _double_track(line, length_m, tag_spacing_m, resource_length_m)
@@ -503,11 +494,8 @@ def load_scenario(path: str | Path) -> Scenario:
         [_train(source, row, j, length_m, layout, tag_spacing_m, national, cycle_s) for j, row in enumerate(rows)],
         layout,
     )
-    try:
-        platforms = platform_data(document["platforms"], source) if "platforms" in document else ()
-    except PlatformDataError as exc:
-        raise ScenarioError(str(exc)) from None
-    stations = _stations(source, top, length_m)
+    platforms, stations = _platforms_and_stations(top, document, length_m, configured)
+    given = len(stations)
     if layout is not None:
         stations, platforms = _mirrored_stations(source, stations, platforms, layout)
     scenario = Scenario(
@@ -542,7 +530,7 @@ def load_scenario(path: str | Path) -> Scenario:
         ato_reference_profile=reference,
         double_track=layout,
     )
-    _check_stops(scenario, given=len(top.rows("stations")))
+    _check_stops(scenario, given=given)
     return scenario
 
 
@@ -567,6 +555,30 @@ def _configured_line(line: _Reader):
     if not found:
         line.fail("line", f"names no line of {path} (its lines: {', '.join(ln.name for ln in config.lines)})")
     return found[0]
+
+
+def _from_line(line: _Reader, configured, key: str) -> Fraction:
+    """``line.<key>``: the scenario's, or the configured line's when it has one (not both)."""
+    value = None if configured is None else getattr(configured, key)
+    if value is None:
+        return line.number(key, positive=True)
+    if key in line.table:
+        line.fail(key, "and line.configuration's line both give it: the configuration's line has its own")
+    return value
+
+
+def _platforms_and_stations(top: _Reader, document: Mapping, length_m: Fraction, configured) -> tuple[list, list]:
+    """The scenario's ``[platforms]`` and ``[[stations]]``, or the configured line's when it has them (not both)."""
+    if configured is not None and configured.platforms:
+        for key in ("platforms", "stations"):
+            if key in document:
+                top.fail(key, "and line.configuration's line both give them: the configuration's line has its own")
+        return list(configured.platforms), list(configured.stations)
+    try:
+        platforms = platform_data(document["platforms"], top.source) if "platforms" in document else ()
+    except PlatformDataError as exc:
+        raise ScenarioError(str(exc)) from None
+    return list(platforms), list(station_stops(top, "stations", length_m))
 
 
 def _line_profiles(
@@ -625,17 +637,6 @@ def _restrictions(source: str, top: _Reader, length_m: Fraction, layout) -> tupl
             start, end = layout.interval(_track(x, layout), start, end)
         restrictions.append(TimedRestriction(start, end, x.number("kmh", positive=True), *_window(x)))
     return tuple(restrictions)
-
-
-def _stations(source: str, top: _Reader, length_m: Fraction) -> list[Station]:
-    stations = []
-    for j, row in enumerate(top.rows("stations")):
-        x = _Reader(source, row, f"stations[{j}]", ("name", "stop_m", "dwell_s"))
-        stop = x.number("stop_m", positive=True)
-        if stop > length_m or (stations and stop <= stations[-1].stop_m):
-            x.fail("stop_m", f"must be on the line ({length_m} m) and after the previous station's stop")
-        stations.append(Station(x.text("name", f"S{j + 1}"), stop, x.number("dwell_s", minimum=0)))
-    return stations
 
 
 def _outages(source: str, top: _Reader, layout) -> tuple[Window, ...]:

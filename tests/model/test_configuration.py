@@ -117,6 +117,24 @@ def test_a_train_file_is_found_beside_the_configuration(tmp_path):
         ("{ start_m = 0, kmh = 100 }, ", "{ start_m = 10, kmh = 100 }, ", "speed_limits[0].start_m = 10 must be 0"),
         ("speed_limits = [", "speed_limits = [] #", "lines[0].speed_limits = [] must be a list of at least one"),
         ('name = "short"', 'name = "short"\nswitches = []', "lines[0].switches: unknown field"),
+        ('name = "short"', 'name = "short"\ntag_spacing_m = 0', "lines[0].tag_spacing_m = 0 must be positive"),
+        ('name = "short"', 'name = "short"\nresource_length_m = 4000', "resource_length_m = 4000 must not exceed"),
+        ('name = "short"', 'name = "short"\nplatforms = 3', "lines[0].platforms must be a table, got 3"),
+        (
+            'name = "short"',
+            'name = "short"\nplatforms = { table = [{ start_m = 2900, length_m = 200, side = "left" }] }',
+            "lines[0].platforms: platform 1 ends at 3100 m, past the line's end (3000 m)",
+        ),
+        (
+            'name = "short"',
+            'name = "short"\nstations = [{ stop_m = 500, dwell_s = 30 }]',
+            "lines[0].stations[0].stop_m = 500: no platform of lines[0].platforms spans it",
+        ),
+        (
+            'name = "short"',
+            'name = "short"\nstations = [{ stop_m = 5000, dwell_s = 30 }]',
+            "lines[0].stations[0].stop_m = 5000 must be on the line (3000 m)",
+        ),
     ],
 )
 def test_bad_configurations_are_named(tmp_path, old, new, message):
@@ -187,3 +205,16 @@ def test_a_multi_step_emergency_brake_is_not_covered_by_the_closed_loop(tmp_path
     (gap,) = configuration_gaps(config)
     assert gap.startswith("lambda_passenger_P_100: the closed-loop theorems (CL-00 to CL-06) are not made")
     assert not any(p.name.startswith("closed_loop.") and "lambda" in p.name for p in configuration_properties(config))
+
+
+def test_a_lines_platforms_and_stations_are_read(tmp_path):
+    text = CONFIG.replace(
+        'name = "short"',
+        'name = "short"\ntag_spacing_m = 100\nresource_length_m = 500\n'
+        'platforms = { table = [{ start_m = 1000, length_m = 250, side = "both", height_mm = 760 }] }\n'
+        'stations = [{ name = "A", stop_m = 1200, dwell_s = 30 }]',
+    )
+    line = load_configuration(_write(tmp_path, text)).lines[0]
+    assert (line.tag_spacing_m, line.resource_length_m) == (100, 500)
+    assert [(p.start_m, p.end_m, p.side, p.height_mm) for p in line.platforms] == [(1000, 1250, "both", 760)]
+    assert [(s.name, s.stop_m, s.dwell_s) for s in line.stations] == [("A", 1200, 30)]

@@ -39,7 +39,7 @@ safety_margin_m = 20
 report_timeout_s = 2
 tag_window_m = 2.5
 tacho_error = 0.01
-stop_tolerance_m = 3
+stop_tolerance_m = 5
 [ato]
 planning_decel_kmhps = 1.5
 margin_m = 30
@@ -85,7 +85,7 @@ safety_margin_m = 20
 report_timeout_s = 2
 tag_window_m = 2.5
 tacho_error = 0.01
-stop_tolerance_m = 3
+stop_tolerance_m = 5
 [ato]
 planning_decel_kmhps = 1.5
 margin_m = 30
@@ -570,7 +570,7 @@ class TestFaults:
         path = tmp_path / "bad.toml"
         path.write_text(
             FAULT_LINE.format(leader="", line=STATION, duration_s=10).replace(
-                "stop_tolerance_m = 3", "stop_tolerance_m = 2"
+                "stop_tolerance_m = 5", "stop_tolerance_m = 2"
             )
         )
         with pytest.raises(ScenarioError, match=r"atp\.stop_tolerance_m = 2 must exceed atp\.tag_window_m = 5/2"):
@@ -745,6 +745,55 @@ class TestConfiguredLines:
     )
     def test_bad_configured_lines_are_named(self, tmp_path, change, message):
         _assert_refused(tmp_path, self._text(str(self.SEEDS)), change, message)
+
+    LINE_DATA = """
+tag_spacing_m = 100
+resource_length_m = 500
+stations = [{ name = "Mid", stop_m = 3500, dwell_s = 20 }]
+
+[[lines.platforms.table]]
+start_m = 3250
+length_m = 300
+side = "right"
+"""
+
+    def _configured(self, tmp_path, line_data: str = LINE_DATA) -> Path:
+        config = self.SEEDS.read_text(encoding="utf-8").replace(
+            "gradients = [{ start_m = 0, permille = -40 }, { start_m = 2500, permille = 40 }]\n",
+            "gradients = [{ start_m = 0, permille = -40 }, { start_m = 2500, permille = 40 }]\n" + line_data,
+        )
+        path = tmp_path / "line.toml"
+        path.write_text(config, encoding="utf-8")
+        return path
+
+    def test_a_configured_lines_tags_resources_platforms_and_stations_are_the_scenarios(self, tmp_path):
+        text = self._text("line.toml").replace("tag_spacing_m = 100\n", "").replace("resource_length_m = 500\n", "")
+        text = text.replace("duration_s = 320", "duration_s = 300").replace(
+            "tacho_error = 0.01\n", "tacho_error = 0.01\nstop_tolerance_m = 5\n"
+        )
+        path = tmp_path / "s.toml"
+        path.write_text(text, encoding="utf-8")
+        self._configured(tmp_path)
+        scenario = load_scenario(path)
+        assert (scenario.tag_spacing_m, scenario.resource_length_m) == (100, 500)
+        assert [(p.start_m, p.end_m, p.side) for p in scenario.platforms] == [(3250, 3550, "right")]
+        assert [(s.name, s.stop_m, s.dwell_s) for s in scenario.stations] == [("Mid", 3500, 20)]
+        sim, _ = _run(scenario)  # a violation raises
+        assert [t.stats.station_stops for t in sim.trains] == [1, 1]
+
+    @pytest.mark.parametrize(
+        ("scenario_adds", "message"),
+        [
+            ("", "line.tag_spacing_m = 100 and line.configuration's line both give it"),
+            ("[platforms]\npacket = '00'\nreference_m = 0\n", "platforms = "),
+        ],
+    )
+    def test_line_data_given_twice_is_refused(self, tmp_path, scenario_adds, message):
+        self._configured(tmp_path)
+        text = self._text("line.toml")
+        if scenario_adds:
+            text = text.replace("tag_spacing_m = 100\n", "").replace("resource_length_m = 500\n", "")
+        _assert_refused(tmp_path, text + "\n" + scenario_adds, ("", ""), message)
 
     def test_a_line_name_needs_a_configuration(self, tmp_path):
         text = self.NORMAL.replace("length_m = 15000\n", 'length_m = 15000\nline = "design"\n')
