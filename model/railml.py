@@ -8,8 +8,11 @@ Speed sections (``functionalInfrastructure/speeds/speedSection``, km/h) and grad
 ``<linearLocation>/<associatedNetElement>`` (``posBegin``/``posEnd`` in metres, ``intrinsicCoordBegin``/``End``
 of the element's length, or neither: the whole element) give the speed limits and the gradients. Where speed
 sections overlap the lowest limit holds; a vertical arc's gradient is the lower of its two ends (the one a
-braking curve must assume). Every other element is listed as not used. A file that cannot be read this way is
-refused naming the element, the attribute and the value (:class:`RailmlError`).
+braking curve must assume). Platform edges (``functionalInfrastructure/platformEdges/platformEdge``, railML 3.2)
+located the same way give the platforms: their side is the ``lateralSide`` of the location's linear coordinates,
+relative to the net element's direction (as railML.org's own example data uses it), their height ``@height`` in
+metres. Every other element is listed as not used. A file that cannot be read this way is refused naming the
+element, the attribute and the value (:class:`RailmlError`).
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ __all__ = ["NAMESPACES", "ImportedLine", "RailmlError", "import_line", "line_tom
 NAMESPACES = ("https://www.railml.org/schemas/3.1", "https://www.railml.org/schemas/3.2")
 """The railML 3 versions read."""
 
-_USED = {"netElements", "netRelations", "speeds", "gradientCurves"}
+_USED = {"netElements", "netRelations", "speeds", "gradientCurves", "platformEdges"}
 """The containers the import reads; the others' elements are listed as not used."""
 
 
@@ -39,13 +42,15 @@ class RailmlError(AtcsInputError):
 @dataclass(frozen=True)
 class ImportedLine:
     """A line from railML: its length (m), speed limits ``(start_m, kmh)`` and gradients ``(start_m, permille)``
-    from 0, and the elements of the file it does not use, by kind (with their count)."""
+    from 0, its platforms ``(start_m, end_m, side, height_mm or None)``, and the elements of the file it does not
+    use, by kind (with their count)."""
 
     name: str
     length_m: Fraction
     speed_limits: tuple[tuple[Fraction, Fraction], ...]
     gradients: tuple[tuple[Fraction, Fraction], ...]
     not_used: tuple[tuple[str, int], ...]
+    platforms: tuple[tuple[Fraction, Fraction, str, int | None], ...] = ()
 
 
 class _File:
@@ -230,6 +235,53 @@ def _gradient_curves(f: _File, offsets: dict, lengths: dict) -> list:
     return gradients
 
 
+MAX_PLATFORM_HEIGHT_M = 2
+"""The highest platform edge read (m): railML gives the height in metres, so a larger value is likely millimetres."""
+
+
+def _lateral_side(f: _File, edge: ET.Element) -> str:
+    """The side of a platform edge: the ``lateralSide`` of its linear coordinates, the same along the edge."""
+    sides = set()
+    for location in edge.findall(f.q("linearLocation")):
+        if location.get("applicationDirection") == "reverse":
+            continue  # for trains running the other way: left out, as by _pieces
+        for part in location.findall(f.q("associatedNetElement")):
+            coordinates = [
+                c for tag in ("linearCoordinateBegin", "linearCoordinateEnd") if (c := part.find(f.q(tag))) is not None
+            ]
+            if not coordinates:
+                f.fail(part, "linearCoordinateBegin", "is missing: a platform edge's side is its lateralSide")
+            for c in coordinates:
+                if c.get("lateralSide") not in ("left", "right", "both"):
+                    f.fail(c, "lateralSide", "must be left, right or both")
+                sides.add(c.get("lateralSide"))
+    if len(sides) > 1:
+        f.fail(edge, "lateralSide", f"differs along the edge ({', '.join(sorted(sides))})")
+    return sides.pop()
+
+
+def _platform_edges(f: _File, offsets: dict, lengths: dict) -> tuple:
+    """The platforms of the platform edges on the line: each edge's pieces joined where they meet."""
+    platforms = []
+    for edge in f.all("infrastructure/functionalInfrastructure/platformEdges/platformEdge"):
+        height = f.number(edge, "height", required=False)
+        if height is not None and not 0 < height <= MAX_PLATFORM_HEIGHT_M:
+            f.fail(edge, "height", f"is outside (0, {MAX_PLATFORM_HEIGHT_M}] m (railML gives it in metres)")
+        pieces = sorted(_pieces(f, edge, offsets, lengths))
+        if not pieces:
+            continue  # off the line
+        side = _lateral_side(f, edge)
+        joined = [list(pieces[0])]
+        for begin, end in pieces[1:]:
+            if begin <= joined[-1][1]:
+                joined[-1][1] = max(joined[-1][1], end)
+            else:
+                joined.append([begin, end])
+        height_mm = None if height is None else round(height * 1000)
+        platforms += [(begin, end, side, height_mm) for begin, end in joined]
+    return tuple(sorted(platforms))
+
+
 def _not_used(f: _File) -> tuple[tuple[str, int], ...]:
     """The elements of the topology, functional infrastructure and geometry views the import does not read."""
     counts = Counter()
@@ -254,6 +306,7 @@ def import_line(path: str | Path, name: str, net_elements: list[str] | None = No
         speed_limits=_profile(f, "<speedSection>", _speed_sections(f, offsets, lengths), length_m),
         gradients=_profile(f, "<gradientCurve>", _gradient_curves(f, offsets, lengths), length_m),
         not_used=_not_used(f),
+        platforms=_platform_edges(f, offsets, lengths),
     )
 
 
@@ -274,4 +327,16 @@ def line_toml(line: ImportedLine) -> str:
         *(f"  {{ start_m = {number(s)}, permille = {number(v)} }}," for s, v in line.gradients),
         "]",
     ]
+    if line.platforms:
+        rows += [
+            "[lines.platforms]",
+            "table = [",
+            *(
+                f'  {{ start_m = {number(b)}, length_m = {number(e - b)}, side = "{side}"'
+                + ("" if height is None else f", height_mm = {height}")
+                + " },"
+                for b, e, side, height in line.platforms
+            ),
+            "]",
+        ]
     return "\n".join(rows) + "\n"
