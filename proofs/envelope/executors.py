@@ -3,8 +3,11 @@ manager yielding an object with ``submit(fn, *args) -> concurrent.futures.Future
 
 from __future__ import annotations
 
+import sys
+import threading
 from collections.abc import Iterator
 from concurrent.futures import Future
+from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 
 from atcs.proofs.workers import worker_pool
@@ -45,14 +48,76 @@ class _Inline:
         return future
 
 
+class _RetryingWorkers:
+    """Local worker processes (:func:`worker_pool`) whose tasks are run again when a worker dies: a dead worker
+    breaks its pool, failing every task not finished, so a new pool takes each of them, up to ``max_retries`` times
+    a task. A task is a pure function of its arguments, so a retry gives the same verdict, and its future resolves
+    once."""
+
+    def __init__(self, jobs: int, max_retries: int):
+        self._jobs, self._max_retries = jobs, max_retries
+        self._lock = threading.Lock()
+        self._context = worker_pool(jobs)
+        self._pool = self._context.__enter__()
+        self._broken: list = []
+        """The contexts of the broken pools, left when the last pool is."""
+
+    def submit(self, fn, *args) -> Future:
+        outer: Future = Future()
+        self._submit(outer, fn, args, self._max_retries)
+        return outer
+
+    def _submit(self, outer: Future, fn, args, retries_left: int) -> None:
+        with self._lock:
+            pool = self._pool
+            try:
+                inner = pool.submit(fn, *args)
+            except BrokenProcessPool:  # broken before its tasks' callbacks replaced it
+                self._replace(pool)
+                pool, inner = self._pool, self._pool.submit(fn, *args)
+        inner.add_done_callback(lambda done: self._finished(outer, fn, args, retries_left, pool, done))
+
+    def _replace(self, broken) -> None:
+        """A new pool for ``broken`` (under the lock), unless another task replaced it already."""
+        if self._pool is broken:
+            self._broken.append(self._context)
+            self._context = worker_pool(self._jobs)
+            self._pool = self._context.__enter__()
+
+    def _finished(self, outer: Future, fn, args, retries_left: int, pool, done: Future) -> None:
+        error = done.exception()
+        if isinstance(error, BrokenProcessPool) and retries_left > 0:
+            with self._lock:
+                self._replace(pool)
+            self._submit(outer, fn, args, retries_left - 1)
+        elif error is not None:
+            outer.set_exception(error)
+        else:
+            outer.set_result(done.result())
+
+    def close(self) -> None:
+        """Leave the current pool as :func:`worker_pool` does: waiting for it, or terminating its workers when
+        called while an exception is raised."""
+        error = sys.exc_info()
+        self._context.__exit__(*error)
+        for context in self._broken:  # their manager threads are done: nothing to wait for
+            context.__exit__(None, None, None)
+
+
 @contextmanager
-def local_executor(jobs: int) -> Iterator:
-    """This process for ``jobs == 1``, else ``jobs`` spawned worker processes (:func:`worker_pool`)."""
+def local_executor(jobs: int, max_retries: int = 3) -> Iterator:
+    """This process for ``jobs == 1``, else ``jobs`` spawned worker processes whose tasks are run again, up to
+    ``max_retries`` times, when a worker dies (:class:`_RetryingWorkers`)."""
     if jobs == 1:
         yield _Inline()
         return
-    with worker_pool(jobs) as pool:
-        yield pool
+    workers = _RetryingWorkers(jobs, max_retries)
+    try:
+        yield workers
+    except BaseException:
+        workers.close()
+        raise
+    workers.close()
 
 
 class _RayTasks:
