@@ -3,6 +3,7 @@ its pool, and a new pool runs every task not finished, so no result is lost or d
 
 import os
 import signal
+import threading
 import time
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
@@ -70,12 +71,12 @@ def test_local_workers_give_the_same_map_with_a_worker_killed():
     with local_executor(1) as tasks:
         inline = sweep(CONFIG, names, timeout_s=300, executor=tasks)
     seen: list = []
+    killed: list = []
     with local_executor(2) as tasks:
-        import threading
-
-        hunter = threading.Thread(target=_kill_one_worker, daemon=True)
+        hunter = threading.Thread(target=lambda: killed.append(_kill_one_worker()), daemon=True)
         hunter.start()
         on_workers = sweep(CONFIG, names, timeout_s=300, executor=tasks, on_cell=lambda name, c: seen.append(name))
         hunter.join()
+    assert killed, "no worker was running to kill"
     assert _verdicts(on_workers) == _verdicts(inline)
     assert sorted(seen) == sorted(names)  # each verdict once: none lost, none duplicated
