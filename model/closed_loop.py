@@ -9,6 +9,10 @@ The limits exceeded go to the foundation's supervision decision
 (:func:`~atcs.model.supervision.supervise`): EB latched until standstill and release,
 service brake, warning. The emergency-brake command then drives the plant.
 
+:data:`DECREASE_LOOP` is the same ATP and plant against one speed decrease of the MRSP instead: a target of the
+lower speed, supervised while the max safe front is short of it, then the lower ceilings (a configuration's
+closed loop, docs/configuration.md "Speed decreases").
+
 The EBI's estimated acceleration is the worst the plant allows (``A_max`` plus the
 steepest downhill's gradient acceleration): a measured ``A_est`` would need a bound on
 how fast the acceleration can rise, which the plant does not model. Train data's
