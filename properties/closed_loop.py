@@ -434,11 +434,13 @@ def decrease_invariant(o, p, s, n_t: int, n_be: int):
     return o.and_(s.speed_mps >= o.const(0), o.or_(*cases, braking))
 
 
-def decrease_properties(tag: str, fixed: dict) -> tuple[Property, ...]:
-    """The theorems of one speed decrease of the MRSP for one set of fixed data, named ``*_<tag>``."""
+def decrease_properties(tag: str, fixed: dict, target: str = "decrease") -> tuple[Property, ...]:
+    """The theorems of one speed decrease of the MRSP for one set of fixed data, named
+    ``closed_loop.<target>_invariant_<tag>`` and ``closed_loop.under_<target>_<tag>`` (``target`` ``loa`` for a limit
+    of authority, which the ATP supervises as a speed decrease)."""
     n_t, n_be = whole_cycles(tag, fixed)
     common = dict(node=DECREASE_LOOP, assumptions=DECREASE_ASSUMPTIONS, fixed_params=fixed, **brake_cycle_splits(n_be))
-    invariant = f"closed_loop.decrease_invariant_{tag}"
+    invariant = f"closed_loop.{target}_invariant_{tag}"
     return (
         Property(
             name=invariant,
@@ -455,7 +457,7 @@ def decrease_properties(tag: str, fixed: dict) -> tuple[Property, ...]:
             **common,
         ),
         Property(
-            name=f"closed_loop.under_decrease_{tag}",
+            name=f"closed_loop.under_{target}_{tag}",
             requirement="CL-09",
             seed="000 §2.4.2, 002 §3.2; Subset-026 3.13.10.3",
             text=(

@@ -14,6 +14,9 @@ For each train on each line, with the train's data and the configuration's natio
   the windows' theorems hold on the line);
 - **each speed decrease** of the line's MRSP as a target: CL-08 and CL-09 (past the decrease, under the lower
   limit's EBI ceiling with the closed loop's margin) in a :class:`DecreaseWindow`, with its CL-07 obligation;
+- a **limit of authority** (an end of authority of target speed above 0, supervised as a speed decrease) anywhere
+  in each window's stretch, of any target speed up to the top limit: CL-08 and CL-09, with a CL-07 for every
+  target speed;
 - each window's side condition CL-10 (more braking commanded admits fewer motions).
 
 The closed loop runs on whole cycles: the train's T_be and T_traction are rounded up to whole cycles of the
@@ -351,6 +354,32 @@ def _window_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_m
     )
 
 
+def _loa_reach(name: str, w: Window, loop_data: dict, profile: Profile, top_mps) -> Property:
+    """CL-07 for a limit of authority anywhere in window ``w``'s stretch, of any target speed up to ``top_mps``."""
+
+    def loa(o, p, s, i):
+        return o.and_(
+            o.const(w.eoa_from_m) <= p.target_m,
+            p.target_m <= o.const(w.eoa_to_m),
+            o.const(0) <= p.target_speed_mps,
+            p.target_speed_mps <= o.const(top_mps),
+            o.eq(p.target_ebd_foot_mps, ebd_foot_mps(o, p, p.target_speed_mps)),
+        )
+
+    stretch = f"[{w.eoa_from_m}, {w.eoa_to_m}] m"
+    what = f"a limit of authority anywhere in {stretch}, of any target speed up to the top limit"
+    text = f"the target lies in {stretch}, its speed up to the top limit, its EBD's foot V + dV_ebi(V)"
+    assumption = Assumption("loa_in_window", text, loa)
+    return _reach(name, what, w.start_m, w.speed_cap_mps, loop_data, profile, top_mps, {}, (assumption,))
+
+
+def _loa_in_window(w: Window) -> Assumption:
+    def holds(o, p, s, i):
+        return o.and_(o.const(w.eoa_from_m) <= p.decrease_m, p.decrease_m <= o.const(w.eoa_to_m))
+
+    return Assumption("window", f"the limit of authority lies in [{w.eoa_from_m}, {w.eoa_to_m}] m", holds)
+
+
 def _decrease_reach(name: str, w: DecreaseWindow, foot_mps, loop_data: dict, profile: Profile, top_mps) -> Property:
     """CL-07 for the speed decrease of window ``w``."""
     target = {"target_m": w.location_m, "target_speed_mps": w.speed_after_mps, "target_ebd_foot_mps": foot_mps}
@@ -391,6 +420,14 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
         if w.start_m > 0:
             props.append(_window_reach(f"closed_loop.window_reach_{tag}_w{w.index}", w, loop_data, profile, top))
         props.append(braking_order_property(f"closed_loop.braking_order_{tag}_w{w.index}", fixed))
+        loa = {key: value for key, value in fixed.items() if key in DECREASE_LOOP.sorts("params")} | {"mrsp_mps": top}
+        loa_node, in_window = sized_node(DECREASE_LOOP, loa), _loa_in_window(w)
+        props += [
+            dataclasses.replace(p, node=loa_node, assumptions=(*p.assumptions, in_window))
+            for p in decrease_properties(f"{tag}_w{w.index}", loa, target="loa")
+        ]
+        if w.start_m > 0:
+            props.append(_loa_reach(f"closed_loop.loa_reach_{tag}_w{w.index}", w, loop_data, profile, top))
     for w in decrease_windows(profile, own_data, line, t.national):
         foot = ebd_foot_mps(EXACT, t.national, w.speed_after_mps)
         fixed = {

@@ -25,9 +25,9 @@ from atcs.proofs.cli._common import (
 )
 
 SCOPE = (
-    "the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere on it under "
-    "any MRSP up to the line's top speed limit, and for each speed decrease of the line's MRSP as a target (in "
-    "windows of the line); not for an end of authority with a target speed above 0 (docs/configuration.md)"
+    "the closed-loop theorems hold on the line's own gradient profile for an end of authority (of target speed 0, "
+    "or any up to the top limit) anywhere on it under any MRSP up to the line's top speed limit, and for each speed "
+    "decrease of the line's MRSP as a target, in windows of the line (docs/configuration.md)"
 )
 """What ``--config``'s closed-loop theorems cover, printed before the verdicts."""
 

@@ -15,13 +15,16 @@ from atcs.model.dynamic_profile import ebd_foot_mps
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import KMH_PER_MPS, value_at
 from atcs.model.train_data import preset_data, whole_cycle_train
+from atcs.proofs.cex.trace import reproduce
 from atcs.proofs.engine.prove import prove
 from atcs.proofs.mutation.mutants import falsify
 from atcs.properties.closed_loop import decrease_properties
 from atcs.properties.configured import (
+    _loa_reach,
     _loop_params,
     compensated_gradients,
     decrease_windows,
+    line_windows,
     loop_family,
     speed_decreases,
 )
@@ -62,6 +65,14 @@ def coarse(tmp_path_factory):
     config = load_configuration(path)
     family = loop_family(config, config.trains[0], config.lines[0])
     return {p.name.removesuffix("_seed000_design_d0"): p for p in family if p.name.endswith("_d0")}
+
+
+@pytest.fixture(scope="module")
+def coarse_family(tmp_path_factory):
+    path = tmp_path_factory.mktemp("coarse_family") / "coarse.toml"
+    path.write_text(COARSE_CONFIG, encoding="utf-8")
+    config = load_configuration(path)
+    return {p.name: p for p in loop_family(config, config.trains[0], config.lines[0])}
 
 
 def test_every_decrease_of_the_speed_limits_and_only_those_gets_a_window(example):
@@ -153,3 +164,42 @@ def test_the_side_condition_is_falsified_when_a_braked_cycle_may_run_farther_tha
         coarse["closed_loop.braking_order"], plant.plant_admits, "distance_m <= v * dt,", "distance_m <= v * dt * 2,"
     )
     assert run.killed, run
+
+
+# --- a limit of authority (an end of authority with a target speed above 0) anywhere in a window -----------------
+
+
+def test_each_window_has_the_limit_of_authority_theorems(coarse_family):
+    windows = {n.rsplit("_w", 1)[1] for n in coarse_family if n.startswith("closed_loop.no_overrun_")}
+    for k in windows:
+        tag = f"seed000_design_w{k}"
+        assert coarse_family[f"closed_loop.loa_invariant_{tag}"].requirement == "CL-08"
+        under = coarse_family[f"closed_loop.under_loa_{tag}"]
+        assert under.requirement == "CL-09" and "decrease_m" not in under.fixed_params
+        assert "mrsp_after_mps" not in under.fixed_params and under.fixed_params["mrsp_mps"] * KMH_PER_MPS == 80
+        reach = f"closed_loop.window_reach_{tag}" in coarse_family
+        assert (f"closed_loop.loa_reach_{tag}" in coarse_family) == reach
+
+
+@pytest.mark.parametrize("kind", ["loa_invariant", "under_loa", "loa_reach"])
+def test_the_limit_of_authority_theorems_are_proved(coarse_family, kind):
+    (name,) = [n for n in coarse_family if n.startswith(f"closed_loop.{kind}_") and n.endswith("_w5")]
+    result = prove(coarse_family[name], timeout_s=300, lemmas=coarse_family)
+    assert (result.status, result.engine) == ("proved", "k-induction"), result.message
+
+
+def test_the_limit_of_authority_theorem_is_falsified_with_the_ceiling_kept_high(coarse_family):
+    run = falsify(coarse_family["closed_loop.under_loa_seed000_design_w0"], *DECREASE_MUTANTS[0], max_k=8)
+    assert run.killed, run
+
+
+def test_the_limit_of_authoritys_reach_is_proved_and_fails_one_breakpoint_later(example):
+    _, _, line, loop_data, profile, _ = example
+    w = next(w for w in line_windows(profile, loop_data, line) if w.start_m > 0 and w.index == 9)
+    top = max(line.speed_limits.values)
+    assert prove(_loa_reach("closed_loop.loa_reach_test", w, loop_data, profile, top), timeout_s=300).status == "proved"
+    later = profile.starts_m[profile.starts_m.index(w.start_m) + 1]
+    mutant = _loa_reach("closed_loop.loa_reach_test", dataclasses.replace(w, start_m=later), loop_data, profile, top)
+    result = prove(mutant, timeout_s=300)
+    assert result.status == "falsified", result.message
+    assert reproduce(mutant, result.trace).first_violation == result.k
