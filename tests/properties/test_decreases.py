@@ -28,24 +28,15 @@ from atcs.properties.configured import (
     loop_family,
     speed_decreases,
 )
+from tests.properties.test_windows import COARSE_CONFIG as WINDOWS_COARSE_CONFIG
 
 EXAMPLE = Path(__file__).parents[2] / "model" / "configurations" / "example_line.toml"
 
-COARSE_CONFIG = """
-name = "coarse"
-
-[atp]
-cycle_s = 0.8
-
-[[trains]]
-preset = "seed000"
-
-[[lines]]
-name = "design"
-length_m = 5000
-speed_limits = [{ start_m = 0, kmh = 80 }, { start_m = 4000, kmh = 30 }, { start_m = 4500, kmh = 60 }]
-gradients = [{ start_m = 0, permille = -40 }, { start_m = 2500, permille = 40 }]
-"""
+COARSE_CONFIG = WINDOWS_COARSE_CONFIG.replace(
+    "speed_limits = [{ start_m = 0, kmh = 80 }]",
+    "speed_limits = [{ start_m = 0, kmh = 80 }, { start_m = 4000, kmh = 30 }, { start_m = 4500, kmh = 60 }]",
+)
+"""The coarse cycle of tests/properties/test_windows.py with a decrease to 30 km/h at 4,000 m."""
 
 
 @pytest.fixture(scope="module")
