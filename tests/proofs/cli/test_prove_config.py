@@ -11,6 +11,7 @@ from atcs.model.configuration import load_configuration
 from atcs.proofs.cex.trace import replay, reproduce
 from atcs.proofs.cli import main
 from atcs.proofs.cli._common import EXIT_UNKNOWN, EXIT_USAGE
+from atcs.proofs.cli.prove import SCOPE
 from atcs.proofs.engine.prove import prove
 from atcs.proofs.mutation.mutants import patched
 from atcs.properties.configured import configuration_properties
@@ -26,9 +27,7 @@ def test_a_configuration_is_proved(jobs, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "curves.spacing_seed000_design_0" in out and "curves.spacing_seed002_design_0" in out
     assert "not covered" not in out
-    assert (
-        "scope the closed-loop theorems hold on the line's own gradient profile for an end of authority anywhere" in out
-    )
+    assert f"scope {SCOPE}" in out and "for each speed decrease of the line's MRSP as a target" in out
 
 
 def test_what_is_not_covered_is_said_and_incomplete(tmp_path, capsys):
