@@ -20,6 +20,7 @@ from atcs.proofs.engine.prove import prove
 from atcs.proofs.mutation.mutants import falsify
 from atcs.properties.closed_loop import decrease_properties
 from atcs.properties.configured import (
+    _decrease_reach,
     _loa_reach,
     _loop_params,
     compensated_gradients,
@@ -191,6 +192,21 @@ def test_the_limit_of_authoritys_reach_is_proved_and_fails_one_breakpoint_later(
     assert prove(_loa_reach("closed_loop.loa_reach_test", w, loop_data, profile, top), timeout_s=300).status == "proved"
     later = profile.starts_m[profile.starts_m.index(w.start_m) + 1]
     mutant = _loa_reach("closed_loop.loa_reach_test", dataclasses.replace(w, start_m=later), loop_data, profile, top)
+    result = prove(mutant, timeout_s=300)
+    assert result.status == "falsified", result.message
+    assert reproduce(mutant, result.trace).first_violation == result.k
+
+
+def test_a_decreases_reach_is_proved_and_fails_one_breakpoint_later(example):
+    _, t, line, loop_data, profile, windows = example
+    w = windows[0]
+    top = max(line.speed_limits.values)
+    foot = ebd_foot_mps(EXACT, t.national, w.speed_after_mps)
+    prop = _decrease_reach("closed_loop.decrease_reach_test", w, foot, loop_data, profile, top)
+    assert prove(prop, timeout_s=300).status == "proved"
+    later = profile.starts_m[profile.starts_m.index(w.start_m) + 1]
+    moved = dataclasses.replace(w, start_m=later)
+    mutant = _decrease_reach("closed_loop.decrease_reach_test", moved, foot, loop_data, profile, top)
     result = prove(mutant, timeout_s=300)
     assert result.status == "falsified", result.message
     assert reproduce(mutant, result.trace).first_violation == result.k
