@@ -17,7 +17,10 @@ from atcs.model.braking_data import RailTrain, curve_national_data, curve_train_
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, Station, platform_data, station_stops
+from atcs.model.position import TagTable
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, Profile
+from atcs.model.route import Resource
+from atcs.model.track_layout import track_layout
 from atcs.model.train_data import (
     PRESETS,
     NationalData,
@@ -70,6 +73,9 @@ FIELDS = {
         "gradients",
         "tag_spacing_m",
         "resource_length_m",
+        "tags",
+        "resources",
+        "switch_throw_s",
         "platforms",
         "stations",
     ),
@@ -143,6 +149,12 @@ class Line:
     gradients: Profile
     tag_spacing_m: Fraction | None = None
     resource_length_m: Fraction | None = None
+    tags: TagTable | None = None
+    """The line's tags one by one (in place of ``tag_spacing_m``)."""
+    resources: tuple[Resource, ...] | None = None
+    """The line's track and switch resources one by one, from 0 to its end (in place of ``resource_length_m``)."""
+    switch_throw_s: Fraction | None = None
+    """How long the object controller takes to throw a switch and report it locked (a line with switches)."""
     platforms: tuple[Platform, ...] = ()
     stations: tuple[Station, ...] = ()
 
@@ -216,6 +228,7 @@ def _line(source: str, table, index: int) -> Line:
             source, r, "gradients", "permille", length_m, -MAX_LINE_GRADIENT_PERMILLE, MAX_LINE_GRADIENT_PERMILLE
         ),
         **spacings,
+        **track_layout(r, length_m),
         **_stops(source, r, length_m),
     )
 

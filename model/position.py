@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import csv
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -271,6 +271,31 @@ def tag_table(
         table_ids.append(tag_id)
         table_positions.append(position)
     return TagTable(tuple(table_ids), tuple(table_positions))
+
+
+def line_tags(source: str, key: str, rows, length_m: Fraction) -> TagTable:
+    """A line's tags (``key = [{id, position_m}, ...]`` in the order a train passes them), each on the line from 0
+    to ``length_m``."""
+    if not isinstance(rows, list) or not all(isinstance(row, Mapping) for row in rows):
+        raise TagTableError(f"{source}: {key} = {rows!r} must be a list of tables {{id, position_m}}")
+    for j, row in enumerate(rows):
+        unknown = sorted(set(row) - {"id", "position_m"})
+        if unknown:
+            raise TagTableError(f"{source}: {key}[{j}]: unknown field {unknown[0]!r} (fields: id, position_m)")
+        for field in ("id", "position_m"):
+            if field not in row:
+                raise TagTableError(f"{source}: {key}[{j}]: {field} is missing")
+    table = tag_table(source, [r["id"] for r in rows], [r["position_m"] for r in rows], f"{key}[{{}}]".format)
+    for j, x in enumerate(table.positions_m):
+        if not 0 <= x <= length_m:
+            raise TagTableError(f"{source}: {key}[{j}].position_m = {x} is off the line (0 to {length_m} m)")
+    return table
+
+
+def grid_tags(length_m: Fraction, tag_spacing_m: Fraction) -> TagTable:
+    """A tag every ``tag_spacing_m`` from 0 up to (not at) ``length_m``, ids from 1."""
+    count = -(-length_m // tag_spacing_m)
+    return tag_table(f"a tag every {tag_spacing_m} m", range(1, count + 1), [k * tag_spacing_m for k in range(count)])
 
 
 def read_tag_table(path: str | Path) -> TagTable:

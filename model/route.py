@@ -24,7 +24,7 @@ naming the file, the resource, the field and the value.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
@@ -70,18 +70,53 @@ def _number(where: str, field: str, raw) -> Fraction:
 
 def route(source: str, resources: Sequence[Mapping], line_end_m) -> Route:
     """A validated :class:`Route` (see the module docstring), or a :class:`RouteError`."""
-    if not resources:
-        raise RouteError(f"{source}: a route needs at least one resource")
-    checked: list[Resource] = []
-    ids: dict[int, int] = {}
-    for k, entry in enumerate(resources):
-        checked.append(_resource(f"{source}: resource {k}", k, entry, ids, checked[-1] if checked else None))
+    checked = resource_list(source, resources)
     end_of_line = _number(source, "line_end_m", line_end_m)
     if not checked[0].start_m < end_of_line <= checked[-1].end_m:
         raise RouteError(
             f"{source}: line_end_m = {line_end_m!r} is not within the route ({checked[0].start_m}, {checked[-1].end_m}]"
         )
-    return Route(tuple(checked), end_of_line)
+    return Route(checked, end_of_line)
+
+
+def resource_list(
+    source: str, resources: Sequence[Mapping], entry: Callable[[int], str] = "resource {}".format
+) -> tuple[Resource, ...]:
+    """Validated resources, contiguous from the first (see the module docstring), or a :class:`RouteError` naming
+    ``source``, the entry (``entry(k)``), the field and the value."""
+    if not resources:
+        raise RouteError(f"{source}: a route needs at least one resource")
+    checked: list[Resource] = []
+    ids: dict[int, int] = {}
+    for k, row in enumerate(resources):
+        checked.append(_resource(f"{source}: {entry(k)}", k, row, ids, checked[-1] if checked else None))
+    return tuple(checked)
+
+
+def line_resources(source: str, key: str, rows, length_m: Fraction) -> tuple[Resource, ...]:
+    """A line's resources (``key = [{id, kind, start_m, end_m, direction}, ...]``): contiguous from 0 to the line's
+    end ``length_m``."""
+    if not isinstance(rows, list):
+        raise RouteError(f"{source}: {key} = {rows!r} must be a list of tables")
+    checked = resource_list(source, rows, lambda k: f"{key}[{k}]")
+    if checked[0].start_m != 0:
+        raise RouteError(f"{source}: {key}[0].start_m = {checked[0].start_m} must be 0 (the line's start)")
+    if checked[-1].end_m != length_m:
+        raise RouteError(
+            f"{source}: {key}[{len(checked) - 1}].end_m = {checked[-1].end_m} must be the line's end ({length_m} m)"
+        )
+    return checked
+
+
+def grid_resources(length_m: Fraction, resource_length_m: Fraction) -> tuple[Resource, ...]:
+    """Track resources ``resource_length_m`` long from 0 to ``length_m`` (the last one shorter), ids from 1."""
+    starts = []
+    x = Fraction(0)
+    while x < length_m:
+        starts.append(x)
+        x += resource_length_m
+    ends = [*starts[1:], length_m]
+    return tuple(Resource(k + 1, "track", a, b) for k, (a, b) in enumerate(zip(starts, ends, strict=True)))
 
 
 def _resource(where: str, k: int, entry, ids: dict[int, int], previous: Resource | None) -> Resource:

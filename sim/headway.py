@@ -24,6 +24,7 @@ model's own functions (nothing re-derived here), on the data the simulator uses 
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import tempfile
 import time
 from collections.abc import Callable, Mapping
@@ -273,7 +274,7 @@ def headway_setting(scenario: Scenario, *, position_error_m=None, speed_error_mp
         },
     )
     if position_error_m is None:
-        spacing = scenario.tag_spacing_m
+        spacing = max(b - a for a, b in itertools.pairwise(scenario.tags.positions_m))
         position_error_m = odometry_interval(EXACT, position, Fraction(0), spacing)[1] - spacing
     if speed_error_mps is None:
         speed_error_mps = speed_accuracy_mps(EXACT, position, mrsp_mps)

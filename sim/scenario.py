@@ -21,7 +21,10 @@ from atcs.model.configuration import ConfigurationError, load_configuration
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, Station, platform_data, station_stops
+from atcs.model.position import TagTable, grid_tags
 from atcs.model.profile import KMH_PER_MPS, parse_number
+from atcs.model.route import Resource, grid_resources
+from atcs.model.track_layout import track_layout
 from atcs.model.train_data import PRESETS as TRAIN_PRESETS
 from atcs.model.train_data import (
     NationalData,
@@ -145,8 +148,10 @@ class Scenario:
     duration_s: Fraction
     cycle_s: Fraction
     line_m: Fraction
-    tag_spacing_m: Fraction
-    resource_length_m: Fraction
+    tags: TagTable
+    """The line's tags (on a double track, round the loop)."""
+    resources: tuple[Resource, ...]
+    """The line's track and switch resources from 0 to :attr:`line_m`."""
     speed_limits_kmh: tuple[Segment, ...]
     gradients_permille: tuple[Segment, ...]
     max_ma_m: Fraction
@@ -170,6 +175,8 @@ class Scenario:
     manager_outages: tuple[Window, ...] = ()
     ato_reference_profile: bool = False
     """The ATO tracks the minimum-time profile to the next station stop (:mod:`atcs.sim.reference_profile`)."""
+    switch_throw_s: Fraction | None = None
+    """How long the object controller takes to throw a switch (a line with switches)."""
     double_track: DoubleTrack | None = None
     """The double track with its turn-backs, one closed track of :attr:`line_m` (:mod:`atcs.sim.double_track`);
     None: an open line from 0 to :attr:`line_m`. Every position of the scenario is in loop coordinates."""
@@ -249,7 +256,7 @@ def _train(
     j: int,
     length_m: Fraction,
     layout: DoubleTrack | None,
-    tag_spacing_m: Fraction,
+    tags: TagTable,
     national: NationalData,
     cycle_s: Fraction,
 ) -> TrainSpec:
@@ -287,12 +294,8 @@ def _train(
             f"must put the whole train on the loop: its rear ({data.train_length_m} m behind) would "
             "be round the near turn-back, behind the loop's origin (x = 0 on the up track)",
         )
-    if front % tag_spacing_m:
-        r.fail(
-            "front_m",
-            f"must be on a tag (a multiple of line.tag_spacing_m = {tag_spacing_m}): a train powers up "
-            "on a tag and reads it in its first cycle",
-        )
+    if front_loop not in tags.positions_m:
+        r.fail("front_m", "must be on a tag of the line: a train powers up on a tag and reads it in its first cycle")
     faults = []
     for k, fault in enumerate(r.rows("faults")):
         where = f"{r.name('faults')}[{k}]"
@@ -346,9 +349,7 @@ def _trains_in_order(source: str, trains: list[TrainSpec], layout: DoubleTrack |
     return tuple(trains)
 
 
-def _double_track(
-    line: _Reader, length_m: Fraction, tag_spacing_m: Fraction, resource_length_m: Fraction
-) -> DoubleTrack | None:
+def _double_track(line: _Reader, length_m: Fraction, spacings: dict, one_by_one: dict) -> DoubleTrack | None:
     flag = line.table.get("double_track", False)
     if not isinstance(flag, bool):
         line.fail("double_track", "must be true or false")
@@ -358,9 +359,16 @@ def _double_track(
             if key in line.table:
                 line.fail(key, "needs line.double_track = true")
         return None
+    for key, given in one_by_one.items():
+        if given is not None:
+            line.fail(
+                key,
+                "is given one by one: a double track lays its tags and resources round the loop by "
+                "line.tag_spacing_m and line.resource_length_m",
+            )
     turn_back = line.number("turn_back_m", positive=True)
     for key, value in (("length_m", length_m), ("turn_back_m", turn_back)):
-        for spacing_key, spacing in (("tag_spacing_m", tag_spacing_m), ("resource_length_m", resource_length_m)):
+        for spacing_key, spacing in spacings.items():
             if value % spacing:
                 line.fail(
                     key,
@@ -451,6 +459,9 @@ def load_scenario(path: str | Path) -> Scenario:
             "line",
             "tag_spacing_m",
             "resource_length_m",
+            "tags",
+            "resources",
+            "switch_throw_s",
             "speed_limits",
             "gradients",
             "max_ma_m",
@@ -462,12 +473,11 @@ def load_scenario(path: str | Path) -> Scenario:
     )
     configured = _configured_line(line)
     length_m = line.number("length_m", positive=True) if configured is None else configured.length_m
-    tag_spacing_m, resource_length_m = (
-        _from_line(line, configured, key) for key in ("tag_spacing_m", "resource_length_m")
-    )
-    if tag_spacing_m > length_m or resource_length_m > length_m:
-        raise ScenarioError(f"{source}: line: tag_spacing_m and resource_length_m must not exceed length_m")
-    layout = _double_track(line, length_m, tag_spacing_m, resource_length_m)
+    spacings, one_by_one = _track_layout(line, configured, length_m)
+    layout = _double_track(line, length_m, spacings, one_by_one)
+    line_m = layout.loop_m if layout is not None else length_m
+    tags = one_by_one["tags"] or grid_tags(line_m, spacings["tag_spacing_m"])
+    resources = one_by_one["resources"] or grid_resources(line_m, spacings["resource_length_m"])
     speed_limits, gradients = _line_profiles(line, length_m, layout, configured)
     atp = _Reader(
         source,
@@ -491,7 +501,7 @@ def load_scenario(path: str | Path) -> Scenario:
     cycle_s = top.number("cycle_s", "0.1", positive=True)
     trains = _trains_in_order(
         source,
-        [_train(source, row, j, length_m, layout, tag_spacing_m, national, cycle_s) for j, row in enumerate(rows)],
+        [_train(source, row, j, length_m, layout, tags, national, cycle_s) for j, row in enumerate(rows)],
         layout,
     )
     platforms, stations = _platforms_and_stations(top, document, length_m, configured)
@@ -505,9 +515,10 @@ def load_scenario(path: str | Path) -> Scenario:
         source=source,
         duration_s=top.number("duration_s", positive=True),
         cycle_s=cycle_s,
-        line_m=layout.loop_m if layout is not None else length_m,
-        tag_spacing_m=tag_spacing_m,
-        resource_length_m=resource_length_m,
+        line_m=line_m,
+        tags=tags,
+        resources=resources,
+        switch_throw_s=one_by_one["switch_throw_s"],
         speed_limits_kmh=speed_limits,
         gradients_permille=gradients,
         max_ma_m=line.number("max_ma_m", positive=True),
@@ -557,14 +568,28 @@ def _configured_line(line: _Reader):
     return found[0]
 
 
-def _from_line(line: _Reader, configured, key: str) -> Fraction:
-    """``line.<key>``: the scenario's, or the configured line's when it has one (not both)."""
-    value = None if configured is None else getattr(configured, key)
-    if value is None:
-        return line.number(key, positive=True)
-    if key in line.table:
-        line.fail(key, "and line.configuration's line both give it: the configuration's line has its own")
-    return value
+def _track_layout(line: _Reader, configured, length_m: Fraction) -> tuple[dict, dict]:
+    """The line's tags and resources, by spacing (``tag_spacing_m``, ``resource_length_m``) or one by one
+    (``tags``, ``resources`` with ``switch_throw_s``): the scenario's, or the configured line's where it gives
+    them (not both). Returns the spacings and the one-by-one forms (None where not given)."""
+    own = track_layout(line, length_m)
+    spacings = {key: line.optional_number(key, positive=True) for key in ("tag_spacing_m", "resource_length_m")}
+    for form, spacing_key in (("tags", "tag_spacing_m"), ("resources", "resource_length_m")):
+        theirs = configured is not None and (
+            getattr(configured, form) is not None or getattr(configured, spacing_key) is not None
+        )
+        if theirs:
+            for key in (form, spacing_key, *(("switch_throw_s",) if form == "resources" else ())):
+                if key in line.table:
+                    line.fail(key, "and line.configuration's line both give it: the configuration's line has its own")
+            own[form], spacings[spacing_key] = getattr(configured, form), getattr(configured, spacing_key)
+            if form == "resources":
+                own["switch_throw_s"] = configured.switch_throw_s
+        elif own[form] is None and spacings[spacing_key] is None:
+            raise ScenarioError(f"{line.source}: line.{spacing_key} is missing (or line.{form}, one by one)")
+        if spacings[spacing_key] is not None and spacings[spacing_key] > length_m:
+            line.fail(spacing_key, f"must not exceed the line's length ({length_m} m)")
+    return spacings, own
 
 
 def _platforms_and_stations(top: _Reader, document: Mapping, length_m: Fraction, configured) -> tuple[list, list]:

@@ -83,8 +83,9 @@ class Simulation:
         (lap ``n`` from ``n * line_m``), so that the step functions see a line; a resource or a tag is the same on
         every lap."""
         self.route_end_m = line * self.laps
-        lap_starts, lap_ends = _grid(Fraction(0), line, scenario.resource_length_m)
-        self.resources_per_lap = resources = len(lap_starts)
+        lap = scenario.resources
+        lap_starts, lap_ends = tuple(r.start_m for r in lap), tuple(r.end_m for r in lap)
+        self.resources_per_lap = resources = len(lap)
         self.resource_starts = tuple(
             tuple(x + n * line for n in range(self.laps) for x in column) for column in (lap_starts, lap_ends)
         )
@@ -92,8 +93,8 @@ class Simulation:
         layout = scenario.double_track
         self.resource_zone = tuple(layout.zone(x) if layout is not None else 1 for x in lap_starts)
         """The wayside zone whose manager handles each resource."""
-        lap_tags = _grid(Fraction(0), line, scenario.tag_spacing_m)[0]
-        self.tags = tag_table(scenario.source, range(1, len(lap_tags) + 1), lap_tags)
+        self.tags = scenario.tags
+        lap_tags = self.tags.positions_m
         laid = range(self.laps + 1) if scenario.loop else range(1)  # a lap more: the last table reaches it
         self.tag_positions_m = tuple(float(x + n * line) for n in laid for x in lap_tags)
         self.tag_ids = tuple(float(i) for _ in laid for i in self.tags.ids)
@@ -117,6 +118,12 @@ class Simulation:
         self.held = [[False] * resources for _ in self.trains]
         """Each train's resources held (by resource, as on the first lap)."""
         self.held_sets: list[set[int]] = [set() for _ in self.trains]
+        self.switches = [r for r, resource in enumerate(lap) if resource.is_switch]
+        """The switches (by resource, as on the first lap)."""
+        self.switch_reversed = [False] * resources
+        """The object controller's switch positions (all normal at the start)."""
+        self.switch_thrown_at: dict[int, float] = {}
+        """The switches being thrown and when each will be locked in its new position."""
         self.in_flight: set[int] = set()
         """The slots with a message on its way (up to the manager or down to the train)."""
 
@@ -165,8 +172,8 @@ class Simulation:
         authority = AuthorityParams(
             resource_start_m=starts,
             resource_end_m=ends,
-            resource_is_switch=(False,) * len(starts),
-            switch_needs_reverse=(False,) * len(starts),
+            resource_is_switch=tuple(r.is_switch for _ in range(self.laps) for r in s.resources),
+            switch_needs_reverse=tuple(r.direction == "reverse" for _ in range(self.laps) for r in s.resources),
             line_end_m=self.route_end_m,
             max_ma_m=s.max_ma_m,
             leader_max_deceleration_mps2=max(t.data.emergency_decelerations_mps2[0] for t in s.trains) + 1,
@@ -242,6 +249,7 @@ class Simulation:
     def step(self) -> None:
         t = self.time_s
         self._restrictions(t)
+        self._lock_switches(t)
         sends, reports = set(), []
         count = len(self.resource_state[0])
         for k, train in enumerate(self.trains):
@@ -396,7 +404,7 @@ class Simulation:
         window = dataclasses.replace(
             train.authority_params, **{name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS}
         )
-        n, held, count = hi - lo, self.held[k], self.resources_per_lap
+        held, count = self.held[k], self.resources_per_lap
         train.authority, auth = check_step(
             AUTHORITY,
             window,
@@ -405,8 +413,8 @@ class Simulation:
                 front_max_m=Fraction(pos.front_max_m),
                 rear_min_m=Fraction(pos.rear_min_m),
                 held=tuple(held[i % count] for i in range(lo, hi)),
-                switch_locked=(True,) * n,
-                switch_reversed=(False,) * n,
+                switch_locked=tuple(i % count not in self.switch_thrown_at for i in range(lo, hi)),
+                switch_reversed=tuple(self.switch_reversed[i % count] for i in range(lo, hi)),
                 report_delivered=report is not None,
                 report_rear_m=Fraction(report[0] if report else 0),
                 report_speed_mps=Fraction(report[1] if report else 0),
@@ -417,7 +425,22 @@ class Simulation:
             self.step_count,
             ops=EXACT,
         )
+        for i, command in enumerate(auth.switch_command, start=lo):
+            if command and i % count not in self.switch_thrown_at:
+                self._throw_switch(i % count, bool(window.switch_needs_reverse[i - lo]), t)
         return auth, lo
+
+    def _throw_switch(self, r: int, reverse: bool, t: float) -> None:
+        """The object controller starts throwing switch ``r`` to ``reverse`` (or normal): it reports it unlocked
+        until the line's throw time has passed."""
+        if self.switch_reversed[r] != reverse:
+            self.switch_reversed[r] = reverse
+            self.switch_thrown_at[r] = t + float(self.scenario.switch_throw_s)
+
+    def _lock_switches(self, t: float) -> None:
+        """The switches whose throw time has passed are reported locked in their new position."""
+        for r in [r for r, until in self.switch_thrown_at.items() if until <= t]:
+            del self.switch_thrown_at[r]
 
     def _supervise(self, train: TrainRun, pos, eoa_m: float, t: float):
         """Step 3, speed and distance supervision against the MRSP and the EoA: returns the commands and the
@@ -537,8 +560,25 @@ class Simulation:
                     raise SafetyViolation(
                         f"entered the protection zone at {start:g} m", train.spec.name, self.step_count, self.time_s
                     )
+            self._check_switches(train)
             if train.front_m > float(self.route_end_m):
                 raise SafetyViolation("ran past the end of the line", train.spec.name, self.step_count, self.time_s)
+
+    def _check_switches(self, train: TrainRun) -> None:
+        """A train's front must not be on a switch that is being thrown or lies against its route."""
+        line = float(self.scenario.line_m)
+        front = train.front_m % line if self.scenario.loop else train.front_m
+        starts, ends = self.resource_floats
+        for r in self.switches:
+            if starts[r] <= front < ends[r]:
+                resource = self.scenario.resources[r]
+                if r in self.switch_thrown_at or self.switch_reversed[r] != (resource.direction == "reverse"):
+                    raise SafetyViolation(
+                        f"ran onto switch {resource.id}, which is not locked {resource.direction}",
+                        train.spec.name,
+                        self.step_count,
+                        self.time_s,
+                    )
 
     def run(self) -> Simulation:
         cycles = int(self.scenario.duration_s / self.scenario.cycle_s)
@@ -558,14 +598,3 @@ def _laps(scenario: Scenario) -> int:
         + 2 * scenario.max_ma_m
     )
     return int(reach // scenario.line_m) + 1
-
-
-def _grid(start: Fraction, end: Fraction, spacing: Fraction) -> tuple[tuple[Fraction, ...], tuple[Fraction, ...]]:
-    """Consecutive ``[start, end)`` pieces of ``spacing`` (the last one shorter): their starts and ends."""
-    starts = []
-    x = start
-    while x < end:
-        starts.append(x)
-        x += spacing
-    ends = [*starts[1:], end]
-    return tuple(starts), tuple(ends)

@@ -170,7 +170,8 @@ class TestScenarios:
 
     def test_the_seed000_line(self):
         s = load_scenario(resolve("seed000_normal"))
-        assert (s.line_m, s.tag_spacing_m, len(s.trains), s.trains[0].data.train_length_m) == (15000, 100, 2, 200)
+        assert (s.line_m, len(s.trains), s.trains[0].data.train_length_m) == (15000, 2, 200)
+        assert s.tags.positions_m[:3] == (0, 100, 200) and s.tags.ids[:3] == (1, 2, 3) and len(s.tags) == 150
         assert [str(x) for x in (s.trains[0].max_speed_kmh, s.speed_limits_kmh[0].value)] == ["80", "80"]
 
     @pytest.mark.parametrize(
@@ -775,7 +776,7 @@ side = "right"
         path.write_text(text, encoding="utf-8")
         self._configured(tmp_path)
         scenario = load_scenario(path)
-        assert (scenario.tag_spacing_m, scenario.resource_length_m) == (100, 500)
+        assert scenario.tags.positions_m[1] == 100 and scenario.resources[1].start_m == 500
         assert [(p.start_m, p.end_m, p.side) for p in scenario.platforms] == [(3250, 3550, "right")]
         assert [(s.name, s.stop_m, s.dwell_s) for s in scenario.stations] == [("Mid", 3500, 20)]
         sim, _ = _run(scenario)  # a violation raises
