@@ -11,7 +11,9 @@ sections overlap the lowest limit holds; a vertical arc's gradient is the lower 
 braking curve must assume). Platform edges (``functionalInfrastructure/platformEdges/platformEdge``, railML 3.2)
 located the same way give the platforms: their side is the ``lateralSide`` of the location's linear coordinates,
 relative to the net element's direction (as railML.org's own example data uses it), their height ``@height`` in
-metres. Every other element is listed as not used. A file that cannot be read this way is refused naming the
+metres. Balise groups (and balises of no group) at their ``<spotLocation>`` give the tags (:func:`_tags`); the
+switches the line runs through, in the direction it takes them, give its switch resources (:func:`_switches`).
+Every other element is listed as not used. A file that cannot be read this way is refused naming the
 element, the attribute and the value (:class:`RailmlError`).
 """
 
@@ -31,7 +33,16 @@ __all__ = ["NAMESPACES", "ImportedLine", "RailmlError", "import_line", "line_tom
 NAMESPACES = ("https://www.railml.org/schemas/3.1", "https://www.railml.org/schemas/3.2")
 """The railML 3 versions read."""
 
-_USED = {"netElements", "netRelations", "speeds", "gradientCurves", "platformEdges"}
+_USED = {
+    "netElements",
+    "netRelations",
+    "speeds",
+    "gradientCurves",
+    "platformEdges",
+    "balises",
+    "baliseGroups",
+    "switchesIS",
+}
 """The containers the import reads; the others' elements are listed as not used."""
 
 
@@ -42,8 +53,9 @@ class RailmlError(AtcsInputError):
 @dataclass(frozen=True)
 class ImportedLine:
     """A line from railML: its length (m), speed limits ``(start_m, kmh)`` and gradients ``(start_m, permille)``
-    from 0, its platforms ``(start_m, end_m, side, height_mm or None)``, and the elements of the file it does not
-    use, by kind (with their count)."""
+    from 0, its platforms ``(start_m, end_m, side, height_mm or None)``, its tags ``(position_m, id, railML id)``,
+    its resources ``(start_m, end_m, kind, direction or None, railML id or None)`` where it has switches, and the
+    elements of the file it does not use, with their count (``("<signalIS>", 1)``)."""
 
     name: str
     length_m: Fraction
@@ -51,6 +63,12 @@ class ImportedLine:
     gradients: tuple[tuple[Fraction, Fraction], ...]
     not_used: tuple[tuple[str, int], ...]
     platforms: tuple[tuple[Fraction, Fraction, str, int | None], ...] = ()
+    tags: tuple[tuple[Fraction, int, str], ...] = ()
+    resources: tuple[tuple[Fraction, Fraction, str, str | None, str | None], ...] = ()
+
+    @property
+    def switches(self) -> int:
+        return sum(kind == "switch" for _, _, kind, _, _ in self.resources)
 
 
 class _File:
@@ -95,9 +113,9 @@ class _File:
         return value
 
 
-def _joins(f: _File, lengths: dict[str, Fraction]) -> dict[str, list[str]]:
-    """Each net element's successors: the elements whose start a ``<netRelation>`` joins its end to."""
-    joins: dict[str, list[str]] = {}
+def _relations(f: _File, lengths: dict[str, Fraction]) -> dict[str, tuple[str, str]]:
+    """The passable ``<netRelation>``s joining one net element's end to another's start: id -> (first, then)."""
+    relations = {}
     for r in f.all("infrastructure/topology/netRelations/netRelation"):
         a, b = r.find(f.q("elementA")), r.find(f.q("elementB"))
         if a is None or b is None:
@@ -107,8 +125,8 @@ def _joins(f: _File, lengths: dict[str, Fraction]) -> dict[str, list[str]]:
         ends = (r.get("positionOnA"), r.get("positionOnB"))
         if ends in (("1", "0"), ("0", "1")):
             first, then = (a, b) if ends == ("1", "0") else (b, a)
-            joins.setdefault(first.get("ref"), []).append(then.get("ref"))
-    return joins
+            relations[r.get("id")] = (first.get("ref"), then.get("ref"))
+    return relations
 
 
 def _checked_order(f: _File, lengths: dict[str, Fraction], joins: dict, order: list[str]) -> list[str]:
@@ -121,9 +139,11 @@ def _checked_order(f: _File, lengths: dict[str, Fraction], joins: dict, order: l
     return order
 
 
-def _chain(f: _File, lengths: dict[str, Fraction], order: list[str] | None) -> list[str]:
+def _chain(f: _File, lengths: dict[str, Fraction], relations: dict, order: list[str] | None) -> list[str]:
     """The net elements of the line in order: ``order`` checked, or the one chain the relations make."""
-    joins = _joins(f, lengths)
+    joins: dict[str, list[str]] = {}
+    for first, then in relations.values():
+        joins.setdefault(first, []).append(then)
     if order:
         return _checked_order(f, lengths, joins, order)
     branching = sorted(a for a, bs in joins.items() if len(bs) > 1)
@@ -282,13 +302,173 @@ def _platform_edges(f: _File, offsets: dict, lengths: dict) -> tuple:
     return tuple(sorted(platforms))
 
 
+_FUNCTIONAL = "infrastructure/functionalInfrastructure"
+MAX_GROUP_ID = 16383
+"""The largest ETCS balise group id, NID_BG (Subset-026 §7.5.1.86)."""
+
+
+def _spot_m(f: _File, element: ET.Element, offsets: dict, lengths: dict) -> Fraction | None:
+    """Where ``element``'s ``<spotLocation>`` on the line lies (m from its start); None if none is on the line."""
+    for spot in element.findall(f.q("spotLocation")):
+        ref = spot.get("netElementRef")
+        if ref is None:
+            f.fail(spot, "netElementRef", "is missing")
+        if ref not in offsets:
+            continue
+        attribute = "pos" if spot.get("pos") is not None else "intrinsicCoord"
+        if spot.get(attribute) is None:
+            f.fail(spot, "pos", "is missing (and intrinsicCoord): the spot is not located")
+        at = f.number(spot, attribute) * (1 if attribute == "pos" else lengths[ref])
+        if not 0 <= at <= lengths[ref]:
+            f.fail(spot, attribute, f"lies outside {ref!r} (0 to {lengths[ref]} m)")
+        return offsets[ref] + at
+    return None
+
+
+def _tags(f: _File, offsets: dict, lengths: dict) -> tuple[tuple, int]:
+    """The line's tags: a balise group each (railML 3.2 ``<baliseGroup>``, 3.1 ``<balise isBaliseGroup="true">``;
+    its members fold into it), and each balise of no group; and how many lie off the line. A tag's id is its
+    group's NID_BG (``isEurobaliseGroup@groupID``, with ``countryID * 16384`` added where the countries differ)
+    when every tag has one, else 1, 2, ... in line order."""
+    groups = {g.get("id"): g for g in f.all(f"{_FUNCTIONAL}/baliseGroups/baliseGroup")}
+    balises = f.all(f"{_FUNCTIONAL}/balises/balise")
+    groups.update({b.get("id"): b for b in balises if b.get("isBaliseGroup") == "true"})
+    members: dict[str, list[ET.Element]] = {}
+    singles = []
+    for b in balises:
+        if b.get("isBaliseGroup") == "true":
+            continue
+        attribute = "belongsToBaliseGroup" if b.get("belongsToBaliseGroup") is not None else "belongsToParent"
+        parent = b.get(attribute)
+        if parent is None:
+            singles.append(b)
+        elif parent not in groups:
+            f.fail(b, attribute, "names no balise group")
+        else:
+            members.setdefault(parent, []).append(b)
+    located, off = [], 0
+    for element in [*groups.values(), *singles]:
+        spotted = [element] if element.find(f.q("spotLocation")) is not None else members.get(element.get("id"), [])
+        if not any(e.find(f.q("spotLocation")) is not None for e in spotted):
+            f.fail(element, "spotLocation", "is missing (on the group and its balises): the tag is not located")
+        places = [x for e in spotted if (x := _spot_m(f, e, offsets, lengths)) is not None]
+        if places:
+            located.append((min(places), element))
+        else:
+            off += 1
+    located.sort(key=lambda pair: pair[0])
+    for (x, a), (y, b) in itertools.pairwise(located):
+        if x == y:
+            f.fail(b, "id", f"lies at {x} m on the line, as {a.get('id')!r} does: two tags at one place")
+    return tuple((x, tag_id, e.get("id")) for (x, e), tag_id in zip(located, _tag_ids(f, located), strict=True)), off
+
+
+def _tag_ids(f: _File, located: list) -> list[int]:
+    euro = [e.find(f.q("isEurobaliseGroup")) for _, e in located]
+    if not euro or any(e is None for e in euro):
+        return list(range(1, len(located) + 1))
+    countries = {f.number(e, "countryID") for e in euro}
+    ids, seen = [], {}
+    for e in euro:
+        group = f.number(e, "groupID")
+        if group.denominator != 1 or not 0 <= group <= MAX_GROUP_ID:
+            f.fail(e, "groupID", f"is not NID_BG, a whole number from 0 to {MAX_GROUP_ID}")
+        tag_id = int(group + (f.number(e, "countryID") * (MAX_GROUP_ID + 1) if len(countries) > 1 else 0))
+        if tag_id in seen:
+            f.fail(e, "groupID", "is the id of another balise group of the line")
+        seen[tag_id] = e
+        ids.append(tag_id)
+    return ids
+
+
+_BRANCHES = {"leftBranch": "left", "rightBranch": "right", "straightBranch": "straight", "turningBranch": "turning"}
+
+
+def _course(f: _File, switch: ET.Element, course: str) -> str:
+    """The direction (``normal``, ``reverse``) a switch lies in for its ``course`` branch: a switch crossing's
+    straight branch is normal, its turning one reverse; a left or right branch is normal where it is the
+    ``continueCourse`` (or the other one is the ``branchCourse``)."""
+    if course in ("straight", "turning"):
+        return "normal" if course == "straight" else "reverse"
+    for attribute in ("continueCourse", "branchCourse"):
+        if switch.get(attribute) not in (None, "left", "right"):
+            f.fail(switch, attribute, "must be left or right")
+    if switch.get("continueCourse") is not None:
+        return "normal" if switch.get("continueCourse") == course else "reverse"
+    if switch.get("branchCourse") is not None:
+        return "reverse" if switch.get("branchCourse") == course else "normal"
+    f.fail(switch, "continueCourse", "is missing (and branchCourse): which course is the switch's normal one")
+
+
+def _switch_extent(f: _File, switch, branch, pair, relations: dict, offsets: dict, lengths: dict):
+    """The ``[start, end)`` a switch the line passes from net element ``pair[0]`` to ``pair[1]`` covers: its
+    linear location, else its branch's ``length`` from the junction towards its branches (ahead where the
+    switch parts in the line's direction, its toe on ``pair[0]``; behind where it joins)."""
+    if switch.find(f.q("linearLocation")) is not None:
+        pieces = _pieces(f, switch, offsets, lengths)
+        if not pieces:
+            f.fail(switch, "linearLocation", "lies off the line that runs through the switch")
+        return min(b for b, _ in pieces), max(e for _, e in pieces)
+    length = f.number(branch, "length")
+    if not length > 0:
+        f.fail(branch, "length", "must be positive")
+    ends = [relations[r] for e in switch if (r := e.get("netRelationRef")) in relations and relations[r] != pair]
+    common = {x for other in ends for x in set(other) & set(pair)}
+    if len(common) != 1:
+        f.fail(switch, "id", "has no other branch on a net relation: the toe (which side it parts) is unknown")
+    junction_m = offsets[pair[1]]
+    return (junction_m, junction_m + length) if common == {pair[0]} else (junction_m - length, junction_m)
+
+
+def _switches(f: _File, chain: list, relations: dict, offsets: dict, lengths: dict, length_m) -> tuple[list, int]:
+    """The switches the line runs through, ``(start_m, end_m, direction, railML id)`` in line order, and how many
+    switches of the file it does not."""
+    branches = {}
+    switches = f.all(f"{_FUNCTIONAL}/switchesIS/switchIS")
+    for switch in switches:
+        for tag, course in _BRANCHES.items():
+            for branch in switch.findall(f.q(tag)):
+                if branch.get("netRelationRef") is None:
+                    f.fail(branch, "netRelationRef", "is missing")
+                branches[branch.get("netRelationRef")] = (switch, course, branch)
+    joining = {pair: r for r, pair in relations.items()}
+    found = []
+    for pair in itertools.pairwise(chain):
+        if joining[pair] not in branches:
+            continue
+        switch, course, branch = branches[joining[pair]]
+        start, end = _switch_extent(f, switch, branch, pair, relations, offsets, lengths)
+        if start < 0 or end > length_m:
+            f.fail(branch, "length", f"takes the switch off the line ({float(start):g} m to {float(end):g} m)")
+        found.append((start, end, _course(f, switch, course), switch.get("id")))
+    for (_, end, _, a), (start, _, _, b) in itertools.pairwise(found):
+        if start < end:
+            raise RailmlError(f"{f.source}: <switchIS id={b!r}> overlaps <switchIS id={a!r}> on the line")
+    return found, len(switches) - len(found)
+
+
+def _resources(switches: list, length_m: Fraction) -> tuple:
+    """The line's resources where it runs through switches: each switch, and a track resource between them."""
+    if not switches:
+        return ()
+    resources, x = [], Fraction(0)
+    for start, end, direction, railml_id in switches:
+        if start > x:
+            resources.append((x, start, "track", None, None))
+        resources.append((start, end, "switch", direction, railml_id))
+        x = end
+    if x < length_m:
+        resources.append((x, length_m, "track", None, None))
+    return tuple(resources)
+
+
 def _not_used(f: _File) -> tuple[tuple[str, int], ...]:
     """The elements of the topology, functional infrastructure and geometry views the import does not read."""
     counts = Counter()
     for view in ("topology", "functionalInfrastructure", "geometry"):
         for group in f.all(f"infrastructure/{view}/*"):
             if group.tag.rpartition("}")[2] not in _USED:
-                counts.update(child.tag.rpartition("}")[2] for child in group)
+                counts.update(f"<{child.tag.rpartition('}')[2]}>" for child in group)
     return tuple(sorted(counts.items()))
 
 
@@ -297,21 +477,32 @@ def import_line(path: str | Path, name: str, net_elements: list[str] | None = No
     elements where the topology alone does not (a branching line)."""
     f = _File(path)
     lengths = _lengths(f)
-    chain = _chain(f, lengths, net_elements)
+    relations = _relations(f, lengths)
+    chain = _chain(f, lengths, relations, net_elements)
     offsets = dict(zip(chain, itertools.accumulate([Fraction(0), *(lengths[r] for r in chain)]), strict=False))
     length_m = sum(lengths[r] for r in chain)
+    tags, tags_off = _tags(f, offsets, lengths)
+    switches, switches_off = _switches(f, chain, relations, offsets, lengths, length_m)
+    off = [("<balise> (group) off the line", tags_off), ("<switchIS> the line does not run through", switches_off)]
+    if len(tags) == 1:
+        tags, off = (), [*off, ("<balise> (group): a line's tags need at least 2, the line has 1", 1)]
     return ImportedLine(
         name=name,
         length_m=length_m,
         speed_limits=_profile(f, "<speedSection>", _speed_sections(f, offsets, lengths), length_m),
         gradients=_profile(f, "<gradientCurve>", _gradient_curves(f, offsets, lengths), length_m),
-        not_used=_not_used(f),
+        not_used=tuple(sorted([*_not_used(f), *((what, n) for what, n in off if n)])),
         platforms=_platform_edges(f, offsets, lengths),
+        tags=tags,
+        resources=_resources(switches, length_m),
     )
 
 
-def line_toml(line: ImportedLine) -> str:
-    """The line as a configuration's ``[[lines]]`` table (TOML)."""
+def line_toml(line: ImportedLine, switch_throw_s: Fraction | None = None) -> str:
+    """The line as a configuration's ``[[lines]]`` table (TOML); a line with switches needs ``switch_throw_s``,
+    which railML does not give."""
+    if line.switches and switch_throw_s is None:
+        raise ValueError(f"the line runs through {line.switches} switches: their throw time is needed")
 
     def number(x: Fraction) -> str:
         return str(x.numerator) if x.denominator == 1 else repr(float(x)) if float(x) == x else f'"{x}"'
@@ -327,6 +518,18 @@ def line_toml(line: ImportedLine) -> str:
         *(f"  {{ start_m = {number(s)}, permille = {number(v)} }}," for s, v in line.gradients),
         "]",
     ]
+    if line.tags:
+        rows += [
+            "tags = [",
+            *(f"  {{ id = {tag_id}, position_m = {number(x)} }},  # {railml_id}" for x, tag_id, railml_id in line.tags),
+            "]",
+        ]
+    if line.resources:
+        rows.append("resources = [")
+        for k, (start, end, kind, direction, railml_id) in enumerate(line.resources, start=1):
+            switch = f', direction = "{direction}" }},  # {railml_id}' if kind == "switch" else " },"
+            rows.append(f'  {{ id = {k}, kind = "{kind}", start_m = {number(start)}, end_m = {number(end)}{switch}')
+        rows += ["]", f"switch_throw_s = {number(Fraction(switch_throw_s))}"]
     if line.platforms:
         rows += [
             "[lines.platforms]",

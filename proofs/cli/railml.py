@@ -6,7 +6,18 @@ Exit code 0, or 2 for a file that cannot be imported (one line naming the elemen
 
 from __future__ import annotations
 
-from atcs.proofs.cli._common import EXIT_OK, check_outputs
+import argparse
+from fractions import Fraction
+
+from atcs.model.track_layout import MAX_SWITCH_THROW_S
+from atcs.proofs.cli._common import EXIT_OK, UsageError, check_outputs, positive_float
+
+
+def _throw_time(text: str) -> Fraction:
+    positive_float(text)
+    if Fraction(text) > MAX_SWITCH_THROW_S:
+        raise argparse.ArgumentTypeError(f"must be at most {MAX_SWITCH_THROW_S} s, got {text!r}")
+    return Fraction(text)
 
 
 def add_parser(subparsers) -> None:
@@ -20,6 +31,14 @@ def add_parser(subparsers) -> None:
         help="the line's net elements in order, where the topology branches (default: the one chain its "
         "net relations make)",
     )
+    r.add_argument(
+        "--switch-throw-s",
+        metavar="S",
+        type=_throw_time,
+        default=None,
+        help="how long the object controller takes to throw a switch (railML has no such time); needed when the "
+        "line runs through a switch",
+    )
     r.add_argument("--out", metavar="FILE", default=None, help="write the table here (default: print it)")
     r.set_defaults(run=run)
 
@@ -31,12 +50,19 @@ def run(args, out, err) -> int:
     check_outputs(files={"--out": args.out})
     order = None if args.net_elements is None else [e.strip() for e in args.net_elements.split(",") if e.strip()]
     line = import_line(args.file, args.name, order)
-    table = line_toml(line)
+    if line.switches and args.switch_throw_s is None:
+        raise UsageError(
+            f"railml: the line runs through {line.switches} switches: give --switch-throw-s, the object "
+            "controller's throw time (railML has none)"
+        )
+    if not line.switches and args.switch_throw_s is not None:
+        raise UsageError("railml: --switch-throw-s is given, but the line runs through no switch")
+    table = line_toml(line, args.switch_throw_s)
     if args.out is None:
         out.print(table, end="", markup=False, highlight=False)
     else:
         write_atomic(args.out, table)
         out.print(f"wrote the line {line.name!r} ({float(line.length_m):g} m) to {args.out}", markup=False)
     for kind, count in line.not_used:
-        err.print(f"not used: {count} <{kind}>", markup=False, highlight=False)
+        err.print(f"not used: {count} {kind}", markup=False, highlight=False)
     return EXIT_OK

@@ -4,6 +4,7 @@ that cannot be read is refused naming the element, the attribute and the value."
 
 import dataclasses
 import re
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
@@ -13,6 +14,8 @@ from atcs.model.railml import RailmlError, import_line, line_toml
 from atcs.proofs.cli import main
 from atcs.proofs.cli._common import EXIT_USAGE
 from atcs.properties.configured import configuration_properties
+from atcs.sim.scenario import load_scenario
+from atcs.sim.simulator import Simulation
 
 DATA = Path(__file__).parent / "data"
 LINE = DATA / "design_line.railml"
@@ -28,7 +31,7 @@ def _with_imported_line(tmp_path) -> Path:
 
 def test_the_imported_line_is_the_hand_written_one(tmp_path):
     imported, written = load_configuration(_with_imported_line(tmp_path)), load_configuration(SEEDS)
-    assert tuple(dataclasses.replace(line, platforms=()) for line in imported.lines) == written.lines
+    assert tuple(dataclasses.replace(line, platforms=(), tags=None) for line in imported.lines) == written.lines
 
 
 def test_a_platform_edge_is_a_platform_of_the_line(tmp_path):
@@ -59,11 +62,11 @@ def test_a_platform_edge_for_the_other_direction_only_is_left_out(tmp_path):
 
 
 def test_elements_not_used_are_listed():
-    assert import_line(LINE, "design").not_used == (
-        ("balise", 2),
-        ("signalIS", 1),
-        ("switchIS", 1),
-    )
+    assert import_line(LINE, "design").not_used == (("<signalIS>", 1), ("<switchIS> the line does not run through", 1))
+
+
+def test_balises_of_no_group_are_tags_numbered_in_line_order():
+    assert import_line(LINE, "design").tags == ((200, 1, "bal1"), (1200, 2, "bal2"))
 
 
 def test_the_cli_writes_the_table_and_lists_what_it_leaves_out(tmp_path, capsys):
@@ -71,7 +74,7 @@ def test_the_cli_writes_the_table_and_lists_what_it_leaves_out(tmp_path, capsys)
     assert main(["railml", str(LINE), "--name", "design", "--out", str(out)]) == 0
     captured = capsys.readouterr()
     assert out.read_text() == line_toml(import_line(LINE, "design"))
-    assert "not used: 2 <balise>" in captured.err and "not used: 1 <switchIS>" in captured.err
+    assert "not used: 1 <signalIS>" in captured.err and "not used: 1 <switchIS> the line does not" in captured.err
 
 
 TEXT = LINE.read_text(encoding="utf-8")
@@ -138,3 +141,112 @@ def test_net_elements_in_order_are_checked(tmp_path):
         import_line(LINE, "d", ["ne2", "ne1"])
     with pytest.raises(RailmlError, match="--net-elements names 'ne9', which is no net element with a length"):
         import_line(LINE, "d", ["ne9"])
+
+
+JUNCTION = DATA / "junction_line.railml"
+JUNCTION_TEXT = JUNCTION.read_text(encoding="utf-8")
+ORDER = ["a", "b", "c"]
+
+
+def test_balise_groups_are_tags_with_their_nid_bg():
+    line = import_line(JUNCTION, "junction", ORDER)
+    assert line.tags == ((300, 101, "bg1"), (1200, 102, "bg2"), (2300, 103, "bg3"))  # bg2 at its first balise
+    assert line.not_used == (("<balise> (group) off the line", 1),)  # bg9, on the siding
+
+
+def test_the_switches_the_line_runs_through_are_its_switch_resources():
+    line = import_line(JUNCTION, "junction", ORDER)
+    assert line.resources == (
+        (0, 1000, "track", None, None),
+        (1000, 1060, "switch", "reverse", "swA"),  # facing: its branch's 60 m after the junction; the branch course
+        (1060, 1540, "track", None, None),
+        (1540, 1600, "switch", "normal", "swB"),  # trailing, by its linear location; the continue course
+        (1600, 3000, "track", None, None),
+    )
+
+
+def test_a_train_runs_the_imported_junction_line_through_both_switches(tmp_path):
+    config = tmp_path / "junction.toml"
+    table = line_toml(import_line(JUNCTION, "junction", ORDER), Fraction(6))
+    config.write_text('name = "j"\n[[trains]]\npreset = "seed000"\n' + table, encoding="utf-8")
+    (line,) = load_configuration(config).lines
+    assert line.tags.ids == (101, 102, 103) and [r.direction for r in line.resources if r.is_switch] == [
+        "reverse",
+        "normal",
+    ]
+    scenario = tmp_path / "run.toml"
+    scenario.write_text(JUNCTION_RUN, encoding="utf-8")
+    sim = Simulation(load_scenario(scenario)).run()  # a violation raises
+    assert sim.switch_reversed == [False, True, False, False, False] and sim.trains[0].front_m > 2900
+
+
+JUNCTION_RUN = """name = "junction"
+seed = "001 §3.2"
+duration_s = 200
+cycle_s = 0.1
+[line]
+configuration = "junction.toml"
+max_ma_m = 1500
+[atp]
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 2.5
+tacho_error = 0.01
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+[[trains]]
+front_m = 300
+max_speed_kmh = 100
+"""
+"""A seed 000 train from the junction line's first tag to its end, through both switches."""
+
+
+def test_the_cli_needs_the_throw_time_for_a_line_with_switches(tmp_path, capsys):
+    out = tmp_path / "line.toml"
+    base = ["railml", str(JUNCTION), "--name", "j", "--net-elements", "a,b,c", "--out", str(out)]
+    assert main(base) == EXIT_USAGE
+    assert "runs through 2 switches: give --switch-throw-s" in capsys.readouterr().err
+    assert main([*base, "--switch-throw-s", "61"]) == EXIT_USAGE
+    assert main([*base, "--switch-throw-s", "6"]) == 0
+    assert "switch_throw_s = 6" in out.read_text()
+    assert main(["railml", str(LINE), "--name", "d", "--switch-throw-s", "6"]) == EXIT_USAGE
+    assert "--switch-throw-s is given, but the line runs through no switch" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ('continueCourse="right" branchCourse="left"', "", "<switchIS id='swA'> continueCourse = None is missing"),
+        ('continueCourse="right"', 'continueCourse="up"', "<switchIS id='swA'> continueCourse = 'up' must be left or"),
+        ('radius="-500" length="60"', 'radius="-500"', "<leftBranch> length = None is missing"),
+        ('radius="-500" length="60"', 'length="1e9"', "<leftBranch> length = '1e9' is out of range"),
+        ('radius="-500" length="60"', 'length="2100"', "<leftBranch> length = '2100' takes the switch off the line"),
+        ('<leftBranch netRelationRef="nr_bc"', "<leftBranch", "<leftBranch> netRelationRef = None is missing"),
+        ('groupID="102"', 'groupID="101"', "<isEurobaliseGroup> groupID = '101' is the id of another balise group"),
+        ('groupID="102"', 'groupID="99999"', "groupID = '99999' is not NID_BG, a whole number from 0 to 16383"),
+        (
+            'belongsToBaliseGroup="bg2"><spotLocation id="b2a',
+            'belongsToBaliseGroup="bgX"><spotLocation id="b2a',
+            "<balise id='b2a'> belongsToBaliseGroup = 'bgX' names no balise group",
+        ),
+        (
+            'netElementRef="c" applicationDirection="normal" intrinsicCoord="0.5"',
+            'netElementRef="c"',
+            "<spotLocation id='bg3_loc'> pos = None is missing (and intrinsicCoord)",
+        ),
+        ('pos="300"', 'pos="1200"', "<spotLocation id='bg1_loc'> pos = '1200' lies outside 'a' (0 to 1000 m)"),
+        (
+            'posBegin="540" posEnd="600"',
+            'posBegin="30" posEnd="600"',
+            "<switchIS id='swB'> overlaps <switchIS id='swA'>",
+        ),
+    ],
+)
+def test_bad_balises_and_switches_are_named(tmp_path, old, new, message):
+    assert old in JUNCTION_TEXT
+    path = tmp_path / "bad.railml"
+    path.write_text(JUNCTION_TEXT.replace(old, new, 1), encoding="utf-8")
+    with pytest.raises(RailmlError, match=re.escape(message)) as caught:
+        import_line(path, "x", ORDER)
+    assert str(caught.value).startswith(str(path))
