@@ -303,8 +303,12 @@ def _platform_edges(f: _File, offsets: dict, lengths: dict) -> tuple:
 
 
 _FUNCTIONAL = "infrastructure/functionalInfrastructure"
+_TRUE = ("true", "1")
+"""The xs:boolean spellings of true."""
 MAX_GROUP_ID = 16383
 """The largest ETCS balise group id, NID_BG (Subset-026 §7.5.1.86)."""
+MAX_COUNTRY_ID = 1023
+"""The largest ETCS country or region id, NID_C (Subset-026 §7.5.1.80)."""
 
 
 def _spot_m(f: _File, element: ET.Element, offsets: dict, lengths: dict) -> Fraction | None:
@@ -332,11 +336,11 @@ def _tags(f: _File, offsets: dict, lengths: dict) -> tuple[tuple, int]:
     when every tag has one, else 1, 2, ... in line order."""
     groups = {g.get("id"): g for g in f.all(f"{_FUNCTIONAL}/baliseGroups/baliseGroup")}
     balises = f.all(f"{_FUNCTIONAL}/balises/balise")
-    groups.update({b.get("id"): b for b in balises if b.get("isBaliseGroup") == "true"})
+    groups.update({b.get("id"): b for b in balises if b.get("isBaliseGroup") in _TRUE})
     members: dict[str, list[ET.Element]] = {}
     singles = []
     for b in balises:
-        if b.get("isBaliseGroup") == "true":
+        if b.get("isBaliseGroup") in _TRUE:
             continue
         attribute = "belongsToBaliseGroup" if b.get("belongsToBaliseGroup") is not None else "belongsToParent"
         parent = b.get(attribute)
@@ -367,6 +371,10 @@ def _tag_ids(f: _File, located: list) -> list[int]:
     euro = [e.find(f.q("isEurobaliseGroup")) for _, e in located]
     if not euro or any(e is None for e in euro):
         return list(range(1, len(located) + 1))
+    for e in euro:
+        country = f.number(e, "countryID")
+        if country.denominator != 1 or not 0 <= country <= MAX_COUNTRY_ID:
+            f.fail(e, "countryID", f"is not NID_C, a whole number from 0 to {MAX_COUNTRY_ID}")
     countries = {f.number(e, "countryID") for e in euro}
     ids, seen = [], {}
     for e in euro:
@@ -400,17 +408,24 @@ def _course(f: _File, switch: ET.Element, course: str) -> str:
     f.fail(switch, "continueCourse", "is missing (and branchCourse): which course is the switch's normal one")
 
 
-def _switch_extent(f: _File, switch, branch, pair, relations: dict, offsets: dict, lengths: dict):
+def _switch_extent(f: _File, switch, branch, pair, relations: dict, offsets: dict, lengths: dict, default_m):
     """The ``[start, end)`` a switch the line passes from net element ``pair[0]`` to ``pair[1]`` covers: its
-    linear location, else its branch's ``length`` from the junction towards its branches (ahead where the
-    switch parts in the line's direction, its toe on ``pair[0]``; behind where it joins)."""
+    linear location, else its branch's ``length`` (else ``default_m``, the user's) from the junction towards its
+    branches (ahead where the switch parts in the line's direction, its toe on ``pair[0]``; behind where it
+    joins)."""
     if switch.find(f.q("linearLocation")) is not None:
         pieces = _pieces(f, switch, offsets, lengths)
         if not pieces:
             f.fail(switch, "linearLocation", "lies off the line that runs through the switch")
         return min(b for b, _ in pieces), max(e for _, e in pieces)
-    length = f.number(branch, "length")
-    if not length > 0:
+    length = f.number(branch, "length", required=False)
+    if length is None and default_m is None:
+        f.fail(
+            branch, "length", "is missing, and so is the switch's linearLocation: give its extent (--switch-length-m)"
+        )
+    if length is None:
+        length = Fraction(default_m)
+    elif not length > 0:
         f.fail(branch, "length", "must be positive")
     ends = [relations[r] for e in switch if (r := e.get("netRelationRef")) in relations and relations[r] != pair]
     common = {x for other in ends for x in set(other) & set(pair)}
@@ -420,9 +435,10 @@ def _switch_extent(f: _File, switch, branch, pair, relations: dict, offsets: dic
     return (junction_m, junction_m + length) if common == {pair[0]} else (junction_m - length, junction_m)
 
 
-def _switches(f: _File, chain: list, relations: dict, offsets: dict, lengths: dict, length_m) -> tuple[list, int]:
+def _switches(f: _File, chain: list, relations: dict, offsets: dict, lengths: dict, length_m, default_m) -> tuple:
     """The switches the line runs through, ``(start_m, end_m, direction, railML id)`` in line order, and how many
-    switches of the file it does not."""
+    switches of the file it does not; ``default_m``: the extent of a switch with neither a linear location nor a
+    branch length (None: such a switch is refused)."""
     branches = {}
     switches = f.all(f"{_FUNCTIONAL}/switchesIS/switchIS")
     for switch in switches:
@@ -437,7 +453,7 @@ def _switches(f: _File, chain: list, relations: dict, offsets: dict, lengths: di
         if joining[pair] not in branches:
             continue
         switch, course, branch = branches[joining[pair]]
-        start, end = _switch_extent(f, switch, branch, pair, relations, offsets, lengths)
+        start, end = _switch_extent(f, switch, branch, pair, relations, offsets, lengths, default_m)
         if start < 0 or end > length_m:
             f.fail(branch, "length", f"takes the switch off the line ({float(start):g} m to {float(end):g} m)")
         found.append((start, end, _course(f, switch, course), switch.get("id")))
@@ -472,9 +488,12 @@ def _not_used(f: _File) -> tuple[tuple[str, int], ...]:
     return tuple(sorted(counts.items()))
 
 
-def import_line(path: str | Path, name: str, net_elements: list[str] | None = None) -> ImportedLine:
+def import_line(
+    path: str | Path, name: str, net_elements: list[str] | None = None, switch_length_m: Fraction | None = None
+) -> ImportedLine:
     """The line of the railML file ``path`` (module docstring), named ``name``; ``net_elements`` orders its net
-    elements where the topology alone does not (a branching line)."""
+    elements where the topology alone does not (a branching line); ``switch_length_m`` is the extent of a switch
+    the file gives neither a linear location nor a branch length (None: such a switch is refused)."""
     f = _File(path)
     lengths = _lengths(f)
     relations = _relations(f, lengths)
@@ -482,7 +501,7 @@ def import_line(path: str | Path, name: str, net_elements: list[str] | None = No
     offsets = dict(zip(chain, itertools.accumulate([Fraction(0), *(lengths[r] for r in chain)]), strict=False))
     length_m = sum(lengths[r] for r in chain)
     tags, tags_off = _tags(f, offsets, lengths)
-    switches, switches_off = _switches(f, chain, relations, offsets, lengths, length_m)
+    switches, switches_off = _switches(f, chain, relations, offsets, lengths, length_m, switch_length_m)
     off = [("<balise> (group) off the line", tags_off), ("<switchIS> the line does not run through", switches_off)]
     if len(tags) == 1:
         tags, off = (), [*off, ("<balise> (group): a line's tags need at least 2, the line has 1", 1)]

@@ -12,6 +12,19 @@ from fractions import Fraction
 from atcs.model.track_layout import MAX_SWITCH_THROW_S
 from atcs.proofs.cli._common import EXIT_OK, UsageError, check_outputs, positive_float
 
+MAX_SWITCH_LENGTH_M = 500
+"""The longest switch extent accepted (m)."""
+
+
+def _switch_length(text: str) -> Fraction:
+    try:
+        approximate = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number of metres, got {text!r}") from None
+    if not 0 < approximate <= MAX_SWITCH_LENGTH_M:  # checked before the exact value: no huge exponents
+        raise argparse.ArgumentTypeError(f"must be in (0, {MAX_SWITCH_LENGTH_M}] m, got {text!r}")
+    return Fraction(text)
+
 
 def _throw_time(text: str) -> Fraction:
     positive_float(text)
@@ -39,6 +52,14 @@ def add_parser(subparsers) -> None:
         help="how long the object controller takes to throw a switch (railML has no such time); needed when the "
         "line runs through a switch",
     )
+    r.add_argument(
+        "--switch-length-m",
+        metavar="M",
+        type=_switch_length,
+        default=None,
+        help="the extent of a switch the file gives neither a linearLocation nor a branch length (default: such a "
+        "switch is refused)",
+    )
     r.add_argument("--out", metavar="FILE", default=None, help="write the table here (default: print it)")
     r.set_defaults(run=run)
 
@@ -49,7 +70,7 @@ def run(args, out, err) -> int:
 
     check_outputs(files={"--out": args.out})
     order = None if args.net_elements is None else [e.strip() for e in args.net_elements.split(",") if e.strip()]
-    line = import_line(args.file, args.name, order)
+    line = import_line(args.file, args.name, order, args.switch_length_m)
     if line.switches and args.switch_throw_s is None:
         raise UsageError(
             f"railml: the line runs through {line.switches} switches: give --switch-throw-s, the object "

@@ -219,7 +219,11 @@ def test_the_cli_needs_the_throw_time_for_a_line_with_switches(tmp_path, capsys)
     [
         ('continueCourse="right" branchCourse="left"', "", "<switchIS id='swA'> continueCourse = None is missing"),
         ('continueCourse="right"', 'continueCourse="up"', "<switchIS id='swA'> continueCourse = 'up' must be left or"),
-        ('radius="-500" length="60"', 'radius="-500"', "<leftBranch> length = None is missing"),
+        (
+            'radius="-500" length="60"',
+            'radius="-500"',
+            "<leftBranch> length = None is missing, and so is the switch's linearLocation",
+        ),
         ('radius="-500" length="60"', 'length="1e9"', "<leftBranch> length = '1e9' is out of range"),
         ('radius="-500" length="60"', 'length="2100"', "<leftBranch> length = '2100' takes the switch off the line"),
         ('<leftBranch netRelationRef="nr_bc"', "<leftBranch", "<leftBranch> netRelationRef = None is missing"),
@@ -250,3 +254,37 @@ def test_bad_balises_and_switches_are_named(tmp_path, old, new, message):
     with pytest.raises(RailmlError, match=re.escape(message)) as caught:
         import_line(path, "x", ORDER)
     assert str(caught.value).startswith(str(path))
+
+
+def test_a_switch_with_no_extent_takes_the_users_length(tmp_path):
+    path = tmp_path / "spot_only.railml"
+    path.write_text(JUNCTION_TEXT.replace('radius="-500" length="60"', 'radius="-500"'), encoding="utf-8")
+    line = import_line(path, "j", ORDER, switch_length_m=Fraction(45))
+    assert line.resources[1] == (1000, 1045, "switch", "reverse", "swA")
+    out = tmp_path / "line.toml"
+    base = ["railml", str(path), "--name", "j", "--net-elements", "a,b,c", "--switch-throw-s", "6", "--out", str(out)]
+    assert main([*base, "--switch-length-m", "45"]) == 0 and "end_m = 1045" in out.read_text()
+    for bad in ("0", "1e300000000", "x", "501"):
+        assert main([*base, "--switch-length-m", bad]) == EXIT_USAGE
+
+
+def test_railml_31_balise_groups_fold_their_balises(tmp_path):
+    groups = JUNCTION_TEXT[
+        JUNCTION_TEXT.index("<baliseGroups>") : JUNCTION_TEXT.index("</balises>") + len("</balises>")
+    ]
+    old_style = """<balises>
+        <balise id="g1" isBaliseGroup="1"><spotLocation id="g1_loc" netElementRef="a" pos="300"/></balise>
+        <balise id="g1a" belongsToParent="g1"><spotLocation id="g1a_loc" netElementRef="a" pos="300"/></balise>
+        <balise id="g1b" belongsToParent="g1"><spotLocation id="g1b_loc" netElementRef="a" pos="303"/></balise>
+        <balise id="lone"><spotLocation id="lone_loc" netElementRef="c" pos="100"/></balise>
+      </balises>"""
+    path = tmp_path / "v31.railml"
+    path.write_text(JUNCTION_TEXT.replace(groups, old_style), encoding="utf-8")
+    assert import_line(path, "j", ORDER).tags == ((300, 1, "g1"), (1700, 2, "lone"))
+
+
+def test_a_country_id_outside_nid_c_is_refused(tmp_path):
+    path = tmp_path / "bad.railml"
+    path.write_text(JUNCTION_TEXT.replace('countryID="80" groupID="102"', 'countryID="1024" groupID="102"'))
+    with pytest.raises(RailmlError, match=re.escape("countryID = '1024' is not NID_C, a whole number from 0 to 1023")):
+        import_line(path, "j", ORDER)
