@@ -16,6 +16,7 @@ from atcs.proofs.cli._common import EXIT_USAGE
 from atcs.properties.configured import configuration_properties
 from atcs.sim.scenario import load_scenario
 from atcs.sim.simulator import Simulation
+from tests.sim.test_switches import ATP_ATO
 
 DATA = Path(__file__).parent / "data"
 LINE = DATA / "design_line.railml"
@@ -180,22 +181,14 @@ def test_a_train_runs_the_imported_junction_line_through_both_switches(tmp_path)
     assert sim.switch_reversed == [False, True, False, False, False] and sim.trains[0].front_m > 2900
 
 
-JUNCTION_RUN = """name = "junction"
+JUNCTION_RUN = f"""name = "junction"
 seed = "001 §3.2"
 duration_s = 200
 cycle_s = 0.1
 [line]
 configuration = "junction.toml"
 max_ma_m = 1500
-[atp]
-safety_margin_m = 20
-report_timeout_s = 2
-tag_window_m = 2.5
-tacho_error = 0.01
-[ato]
-planning_decel_kmhps = 1.5
-margin_m = 30
-[[trains]]
+{ATP_ATO}[[trains]]
 front_m = 300
 max_speed_kmh = 100
 """

@@ -12,6 +12,16 @@ from atcs.sim.simulator import Simulation
 from atcs.sim.train_run import SafetyViolation
 
 SWITCH_START_M, THROW_S = 1000, 30
+ATP_ATO = """[atp]
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 2.5
+tacho_error = 0.01
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+"""
+"""The ATP's and the ATO's settings of a short test line (seed 000's)."""
 SCENARIO = f"""name = "switch"
 seed = "001 §3.2"
 duration_s = 90
@@ -30,15 +40,7 @@ resources = [
 ]
 switch_throw_s = {THROW_S}
 max_ma_m = 1500
-[atp]
-safety_margin_m = 20
-report_timeout_s = 2
-tag_window_m = 2.5
-tacho_error = 0.01
-[ato]
-planning_decel_kmhps = 1.5
-margin_m = 30
-[[trains]]
+{ATP_ATO}[[trains]]
 name = "T1"
 front_m = 400
 max_speed_kmh = 60
