@@ -492,6 +492,7 @@ def load_scenario(path: str | Path) -> Scenario:
     if not isinstance(reference, bool):
         ato.fail("reference_profile", "must be true or false")
     tacho_error = atp.number("tacho_error", minimum=0)
+    _tags_apart(line, tags, atp.number("tag_window_m", minimum=0))
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
     rows = top.rows("trains")
@@ -566,6 +567,16 @@ def _configured_line(line: _Reader):
     if not found:
         line.fail("line", f"names no line of {path} (its lines: {', '.join(ln.name for ln in config.lines)})")
     return found[0]
+
+
+def _tags_apart(line: _Reader, tags: TagTable, tag_window_m: Fraction) -> None:
+    """Consecutive tags more than the tag window apart, as the position proofs assume (``reader_complete``)."""
+    for j, (a, b) in enumerate(itertools.pairwise(tags.positions_m), start=1):
+        if b - a <= tag_window_m:
+            raise ScenarioError(
+                f"{line.source}: line: tag {j} at {float(b):g} m is within atp.tag_window_m = {float(tag_window_m):g} m of the tag "
+                f"before it ({float(a):g} m): the position proofs assume tags more than the tag window apart"
+            )
 
 
 def _track_layout(line: _Reader, configured, length_m: Fraction) -> tuple[dict, dict]:
