@@ -574,8 +574,9 @@ def _tags_apart(line: _Reader, tags: TagTable, tag_window_m: Fraction) -> None:
     for j, (a, b) in enumerate(itertools.pairwise(tags.positions_m), start=1):
         if b - a <= tag_window_m:
             raise ScenarioError(
-                f"{line.source}: line: tag {j} at {float(b):g} m is within atp.tag_window_m = {float(tag_window_m):g} m of the tag "
-                f"before it ({float(a):g} m): the position proofs assume tags more than the tag window apart"
+                f"{line.source}: line: tag {j} at {float(b):g} m is within atp.tag_window_m = "
+                f"{float(tag_window_m):g} m of the tag before it ({float(a):g} m): the position proofs assume tags "
+                "more than the tag window apart"
             )
 
 
