@@ -476,6 +476,9 @@ def load_scenario(path: str | Path) -> Scenario:
     spacings, one_by_one = _track_layout(line, configured, length_m)
     layout = _double_track(line, length_m, spacings, one_by_one)
     line_m = layout.loop_m if layout is not None else length_m
+    for key, spacing in spacings.items():
+        if spacing is not None and line_m / spacing > MAX_GRID:
+            line.fail(key, f"lays more than {MAX_GRID:,} of them on the line ({float(line_m):g} m)")
     tags = one_by_one["tags"] or grid_tags(line_m, spacings["tag_spacing_m"])
     resources = one_by_one["resources"] or grid_resources(line_m, spacings["resource_length_m"])
     speed_limits, gradients = _line_profiles(line, length_m, layout, configured)
@@ -567,6 +570,10 @@ def _configured_line(line: _Reader):
     if not found:
         line.fail("line", f"names no line of {path} (its lines: {', '.join(ln.name for ln in config.lines)})")
     return found[0]
+
+
+MAX_GRID = 100_000
+"""The most tags, or resources, a spacing may lay on a line (a 1,000 km line at 10 m)."""
 
 
 def _tags_apart(line: _Reader, tags: TagTable, tag_window_m: Fraction) -> None:

@@ -107,6 +107,13 @@ def test_a_bad_layout_is_refused_naming_the_field(tmp_path, old, new, message):
     assert str(caught.value).startswith(str(tmp_path)) and message in str(caught.value), caught.value
 
 
+def test_a_spacing_that_lays_too_many_tags_is_refused(tmp_path):
+    start, end = SCENARIO.index("tags = ["), SCENARIO.index("resources = [")
+    text = SCENARIO[:start] + "tag_spacing_m = 0.01\n" + SCENARIO[end:]
+    with pytest.raises(ScenarioError, match=r"line.tag_spacing_m = 0.01 lays more than 100,000 of them on the line"):
+        _scenario(tmp_path, text)
+
+
 def test_without_tags_in_either_form_the_spacing_is_asked_for(tmp_path):
     start, end = SCENARIO.index("tags = ["), SCENARIO.index("resources = [")
     with pytest.raises(ScenarioError, match=r"line.tag_spacing_m is missing \(or line.tags, one by one\)"):
