@@ -110,11 +110,7 @@ def line_resources(source: str, key: str, rows, length_m: Fraction) -> tuple[Res
 
 def grid_resources(length_m: Fraction, resource_length_m: Fraction) -> tuple[Resource, ...]:
     """Track resources ``resource_length_m`` long from 0 to ``length_m`` (the last one shorter), ids from 1."""
-    starts = []
-    x = Fraction(0)
-    while x < length_m:
-        starts.append(x)
-        x += resource_length_m
+    starts = [k * resource_length_m for k in range(-(-length_m // resource_length_m))]
     ends = [*starts[1:], length_m]
     return tuple(Resource(k + 1, "track", a, b) for k, (a, b) in enumerate(zip(starts, ends, strict=True)))
 

@@ -10,27 +10,29 @@ import argparse
 from fractions import Fraction
 
 from atcs.model.track_layout import MAX_SWITCH_THROW_S
-from atcs.proofs.cli._common import EXIT_OK, UsageError, check_outputs, positive_float
+from atcs.proofs.cli._common import EXIT_OK, UsageError, check_outputs
 
 MAX_SWITCH_LENGTH_M = 500
 """The longest switch extent accepted (m)."""
 
 
-def _switch_length(text: str) -> Fraction:
+def _bounded(text: str, high, unit: str) -> Fraction:
+    """A number in ``(0, high]``, exactly; checked as a float first, so a huge exponent is refused, not expanded."""
     try:
         approximate = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number of metres, got {text!r}") from None
-    if not 0 < approximate <= MAX_SWITCH_LENGTH_M:  # checked before the exact value: no huge exponents
-        raise argparse.ArgumentTypeError(f"must be in (0, {MAX_SWITCH_LENGTH_M}] m, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a number of {unit}, got {text!r}") from None
+    if not 0 < approximate <= high:
+        raise argparse.ArgumentTypeError(f"must be in (0, {high}] {unit}, got {text!r}")
     return Fraction(text)
+
+
+def _switch_length(text: str) -> Fraction:
+    return _bounded(text, MAX_SWITCH_LENGTH_M, "metres")
 
 
 def _throw_time(text: str) -> Fraction:
-    positive_float(text)
-    if Fraction(text) > MAX_SWITCH_THROW_S:
-        raise argparse.ArgumentTypeError(f"must be at most {MAX_SWITCH_THROW_S} s, got {text!r}")
-    return Fraction(text)
+    return _bounded(text, MAX_SWITCH_THROW_S, "seconds")
 
 
 def add_parser(subparsers) -> None:
