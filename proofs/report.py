@@ -53,6 +53,7 @@ def result_record(prop: Property, result: Result, counterexample: str | None) ->
         "smoothing": None if result.smoothing is None else result.smoothing.as_json(),
         "nominal": None if result.nominal is None else result.nominal.as_json(),
         "witnesses": [{"what": w.what, "step": w.step} for w in result.witnesses],
+        "parts": [part.name for part in result.parts],
     }
 
 
@@ -89,7 +90,7 @@ def json_report(
 ) -> str:
     """The report of ``atcs prove``; with ``--config``, the configuration file and what it does not cover, and the
     map of each property proved over ranges of train data (:func:`atcs.proofs.envelope.map_json`)."""
-    counts = {s: sum(r["status"] == s for r in records) for s in Status}
+    counts = {s: sum(r["status"] == s for r in records if r.get("part_of") is None) for s in Status}
     doc = {
         "tool": "atcs",
         "timeout_s": timeout_s,

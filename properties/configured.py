@@ -63,6 +63,7 @@ __all__ = [
     "decrease_windows",
     "gradient_transitions",
     "layout_train",
+    "loa_in_bands",
     "loop_family",
     "speed_decreases",
 ]
@@ -422,10 +423,11 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
         props.append(braking_order_property(f"closed_loop.braking_order_{tag}_w{w.index}", fixed))
         loa = {key: value for key, value in fixed.items() if key in DECREASE_LOOP.sorts("params")} | {"mrsp_mps": top}
         loa_node, in_window = sized_node(DECREASE_LOOP, loa), _loa_in_window(w)
-        props += [
+        invariant, under = (
             dataclasses.replace(p, node=loa_node, assumptions=(*p.assumptions, in_window))
             for p in decrease_properties(f"{tag}_w{w.index}", loa, target="loa")
-        ]
+        )
+        props += loa_in_bands(invariant, under, Fraction(0), top)
         if w.start_m > 0:
             props.append(_loa_reach(f"closed_loop.loa_reach_{tag}_w{w.index}", w, loop_data, profile, top))
     for w in decrease_windows(profile, own_data, line, t.national):
@@ -447,6 +449,54 @@ def loop_family(config: Configuration, t: ConfiguredTrain, line: Line, train=Non
             )
         props.append(braking_order_property(f"closed_loop.braking_order_{tag}_d{w.index}", fixed))
     return tuple(props)
+
+
+LOA_BAND_RESOLUTION_MPS = Fraction(10) / KMH_PER_MPS
+"""The narrowest band of target speeds a limit of authority's theorems are split into (:func:`loa_in_bands`)."""
+
+
+@dataclass(frozen=True)
+class _SpeedBand:
+    """``low <= mrsp_after_mps <= high``; compared by value, so that a part and its lemma share the assumption."""
+
+    low_mps: Fraction
+    high_mps: Fraction
+
+    def __call__(self, o, p, s, i):
+        return o.and_(o.const(self.low_mps) <= p.mrsp_after_mps, p.mrsp_after_mps <= o.const(self.high_mps))
+
+
+def loa_in_bands(invariant: Property, under: Property, low_mps, high_mps) -> tuple[Property, Property]:
+    """A limit of authority's CL-08 ``invariant`` and CL-09 ``under`` (its lemma), each claimed for target speeds in
+    ``[low_mps, high_mps]``, with a split (:mod:`atcs.proofs.engine.split`) into the lower and upper half of that band
+    while it is wider than :data:`LOA_BAND_RESOLUTION_MPS`: the half of CL-09 rests on the same half of CL-08. The
+    target speed is a parameter, fixed for a run, so the bands' theorems together are the whole band's."""
+    if high_mps - low_mps <= LOA_BAND_RESOLUTION_MPS:
+        return invariant, under
+    middle = (low_mps + high_mps) / 2
+    given = tuple(tuple(a for a in p.assumptions if a.name != "target_speed_band") for p in (invariant, under))
+
+    def half(j: int, low, high) -> tuple[Property, Property]:
+        band = Assumption(
+            "target_speed_band",
+            f"the target speed is in [{float(low * KMH_PER_MPS):g}, {float(high * KMH_PER_MPS):g}] km/h",
+            _SpeedBand(low, high),
+        )
+        part = dataclasses.replace(invariant, name=f"{invariant.name}_h{j}", assumptions=(*given[0], band), split=None)
+        lemmas = tuple(part.name if lemma == invariant.name else lemma for lemma in under.lemmas)
+        above = dataclasses.replace(
+            under, name=f"{under.name}_h{j}", assumptions=(*given[1], band), lemmas=lemmas, split=None
+        )
+        return loa_in_bands(part, above, low, high)
+
+    def halves(which: int) -> tuple[Property, Property]:
+        lower, upper = half(0, low_mps, middle), half(1, middle, high_mps)
+        return lower[which], upper[which]
+
+    return (
+        dataclasses.replace(invariant, split=lambda: halves(0)),
+        dataclasses.replace(under, split=lambda: halves(1)),
+    )
 
 
 _FARTHEST_REACH = {

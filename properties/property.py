@@ -58,6 +58,10 @@ class Property:
     """The split of the certificate's inductive step (:mod:`atcs.proofs.certify.obligations`), as ``cases``, when it is
     not ``cases``: the certificate is checked by cvc5 as well as z3, and a split that helps one solver can stall
     the other (docs/certificates.md). Any split is sound: the certificate adds the rest as one more case."""
+    split: Callable[[], tuple[Property, Property]] | None = None
+    """The property as two, named ``<name>_h0`` and ``<name>_h1``, each claimed on half of a parameter's range, which
+    together are it: the prove run proves them when this one comes back ``unknown`` (:mod:`atcs.proofs.engine.split`).
+    None when the property is not split, or its range is at the resolution."""
 
     def __post_init__(self):
         if not _NAME.match(self.name):

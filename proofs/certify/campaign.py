@@ -81,8 +81,8 @@ def _use_configuration(path: str) -> None:
 
 
 def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROPERTIES) -> dict[str, int]:
-    """The depth of each proved property in a prove report (``atcs prove --json``); its names must be in
-    ``registry``."""
+    """The depth of each property proved in a prove report (``atcs prove --json``), parts included (a property
+    proved in parts has none of its own); its names must be in ``registry``."""
     try:
         doc = json.loads(Path(path).read_text())
     except OSError as exc:
@@ -99,7 +99,7 @@ def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROP
         )
         if not isinstance(name, str) or name not in registry:
             raise ProveReportError(f"{path}: properties[{j}].name = {name!r} is not a registered property")
-        if status == "proved":
+        if status == "proved" and not record.get("parts"):  # one proved in parts has its parts' records
             if not isinstance(k, int) or isinstance(k, bool) or k < 0:
                 raise ProveReportError(f"{path}: properties[{j}].k = {k!r} (of {name}) is not a depth")
             depths[name] = k

@@ -160,6 +160,12 @@ class Bar:
         if not self.console.is_terminal:
             print(log_line or what, file=self.console.file, flush=True)
 
+    def more(self, items: int) -> None:
+        """``items`` more to do than the total said."""
+        if items:
+            task = self.progress.tasks[self.task]
+            self.progress.update(self.task, total=(task.total or 0) + items)
+
     def at(self, completed: int, total: int | None = None) -> None:
         """Move the bar to ``completed`` items (of ``total``, if given, from now on); in a log, say so with the time
         left every :data:`LOG_EVERY_S`."""

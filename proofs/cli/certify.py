@@ -95,6 +95,7 @@ def add_parser(subparsers) -> None:
 
 def run(args, out, err) -> int:
     from atcs.proofs.certify import campaign
+    from atcs.proofs.engine.split import covering_parts
     from atcs.proofs.engine.suite import configured_registry
     from atcs.proofs.files import write_atomic
 
@@ -109,7 +110,14 @@ def run(args, out, err) -> int:
         with reraised("certify: --report ", campaign.ProveReportError):
             depths = campaign.depths_from_report(args.report, registry)
     else:
-        depths = _prove_depths(wanted, args, err)
+        depths = _prove_depths(wanted, args, err, registry)
+    pieces = {p.name: covering_parts(p.name, depths) for p in wanted if p.name not in depths}
+    parts = [registry[n] for names in pieces.values() if names for n in names]
+    known = {p.name for p in wanted} | {p.name for p in parts}
+    lemmas = sorted({n for p in parts for n in _lemma_closure(p, registry)} - known)
+    if lemmas and args.report is None:  # a part's lemma that was not split with it: proved whole
+        depths |= _prove_depths([registry[n] for n in lemmas], args, err, registry)
+    wanted = [*wanted, *parts, *(registry[n] for n in lemmas)]
     limits = {"z3": args.z3_timeout or args.timeout, "cvc5": args.cvc5_timeout or args.timeout}
     results = _certify_all(campaign, wanted, depths, limits, z3_only, args, err)
     if len(results) < sum(p.name in depths for p in wanted):  # interrupted: each certificate checked so far
@@ -125,7 +133,12 @@ def run(args, out, err) -> int:
     records = []
     for prop in props:
         c = results.get(prop.name)
+        if c is None and pieces.get(prop.name):
+            made = [_write(campaign, results[n], directory) | {"part_of": prop.name} for n in pieces[prop.name]]
+            records += [_in_parts(prop, made), *made]
+            continue
         if c is None:
+            partial = any(n.startswith(f"{prop.name}_h") for n in depths)
             records.append(
                 {
                     "name": prop.name,
@@ -134,16 +147,14 @@ def run(args, out, err) -> int:
                     "lemmas": list(prop.lemmas),
                     "status": campaign.CertificateStatus.NOT_PROVED,
                     "confirmed_by": [],
-                    "message": "no proof to certify",
+                    "message": "no proof to certify" + (", and its proved parts do not cover it" if partial else ""),
                     "checks": [],
                 }
             )
             continue
-        (directory / prop.name).mkdir(parents=True, exist_ok=True)
-        for ob in c.obligations:
-            write_atomic(directory / prop.name / f"{ob.check}.smt2", ob.script)
-        records.append(campaign.record(c, directory))
-    counts = {s: sum(r["status"] == s for r in records) for s in STYLE}
+        records.append(_write(campaign, c, directory))
+    wholes = [r for r in records if r.get("part_of") is None]
+    counts = {s: sum(r["status"] == s for r in wholes) for s in STYLE}
     write_atomic(
         directory / "certificates.json",
         json.dumps(
@@ -164,7 +175,42 @@ def run(args, out, err) -> int:
         + "\n",
     )
     _print(out, records, wall, directory)
-    return exit_code(against=counts["disagreement"] > 0, incomplete=counts["certified"] != len(records))
+    return exit_code(against=counts["disagreement"] > 0, incomplete=counts["certified"] != len(wholes))
+
+
+def _write(campaign, c, directory: Path) -> dict:
+    """Write the certificate's scripts under ``directory``; its record."""
+    from atcs.proofs.files import write_atomic
+
+    (directory / c.name).mkdir(parents=True, exist_ok=True)
+    for ob in c.obligations:
+        write_atomic(directory / c.name / f"{ob.check}.smt2", ob.script)
+    return campaign.record(c, directory)
+
+
+_WORST_FIRST = ("disagreement", "error", "not proved", "unconfirmed", "certified")
+
+
+def _in_parts(prop, parts: list[dict]) -> dict:
+    """The record of a property proved in parts (:mod:`atcs.proofs.engine.split`): certified when every part is."""
+    status = min((r["status"] for r in parts), key=_WORST_FIRST.index)
+    counts = {s: sum(r["status"] == s for r in parts) for s in _WORST_FIRST}
+    message = f"{len(parts)} parts: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n)
+    if status != "certified":
+        first = next(r for r in parts if r["status"] == status)
+        message += f"; {first['name']}: {first['message']}"
+    confirmed = set.intersection(*(set(r["confirmed_by"]) for r in parts))
+    return {
+        "name": prop.name,
+        "requirement": prop.requirement,
+        "k": None,
+        "lemmas": list(prop.lemmas),
+        "status": status,
+        "confirmed_by": sorted(confirmed),
+        "message": message,
+        "checks": [],
+        "parts": [r["name"] for r in parts],
+    }
 
 
 def _certify_all(campaign, wanted: list, depths: dict, limits: dict, z3_only: set, args, err) -> dict:
@@ -188,16 +234,24 @@ def _certify_all(campaign, wanted: list, depths: dict, limits: dict, z3_only: se
     return results
 
 
-def _prove_depths(wanted: list, args, err) -> dict[str, int]:
-    """The depth of each property ``wanted`` that the prover proves now."""
+def _prove_depths(wanted: list, args, err, registry) -> dict[str, int]:
+    """The depth of each property ``wanted`` that the prover proves now, and of each part of those it proves in
+    parts (:mod:`atcs.proofs.engine.split`)."""
     from atcs.proofs.engine import suite
+    from atcs.proofs.engine.split import leaves, prove_in_parts
 
     depths = {}
+    names = {p.name for p in wanted}
     with progress_bar(err, "proving", len(wanted)) as bar:
-        for result in suite.run(wanted, timeout_s=args.timeout, jobs=args.jobs, configuration=args.config):
-            if result.status == "proved":
-                depths[result.name] = result.k
-            bar.done(f"proving {result.name}: {result.status}")
+
+        def prove_round(level: list):
+            bar.more(sum(p.name not in names for p in level))
+            for result in suite.run(level, timeout_s=args.timeout, jobs=args.jobs, configuration=args.config):
+                bar.done(f"proving {result.name}: {result.status}")
+                yield result
+
+        for result in prove_in_parts(wanted, prove_round):
+            depths |= {r.name: r.k for r in leaves([result]) if r.status == "proved"}
     return depths
 
 

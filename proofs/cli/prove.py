@@ -8,6 +8,7 @@ interrupted (Ctrl-C: the verdicts so far are printed, no report is written).
 
 from __future__ import annotations
 
+import itertools
 import time
 
 from rich.table import Table
@@ -108,6 +109,7 @@ def add_parser(subparsers) -> None:
 
 def run(args, out, err) -> int:
     from atcs.proofs import report
+    from atcs.proofs.engine.suite import configured_registry
     from atcs.proofs.files import write_atomic
 
     configured, gaps = _configured(args.config, out)
@@ -119,7 +121,8 @@ def run(args, out, err) -> int:
     ranged = _ranged(args)
     start = time.monotonic()
     plain = [p for p in props if p.name not in ranged]
-    results = _prove_or_reuse(plain, configured, args, out, err)
+    registry = configured_registry(args.config)
+    results = _prove_or_reuse(plain, registry, args, out, err)
     maps = {}
     if len(results) == len(plain):  # not interrupted: the properties over ranges next
         maps, envelope_results = _envelopes([p.name for p in props if p.name in ranged], args, err)
@@ -130,15 +133,7 @@ def run(args, out, err) -> int:
         out.print(f"[yellow]interrupted[/] after {len(results)} of {len(props)} properties; no report written")
         return EXIT_INTERRUPTED
 
-    records = []
-    for prop in props:
-        result = results[prop.name]
-        cex = None
-        if result.trace is not None and result.replay is not None:
-            cex = str(report.write_counterexample(args.cex_dir, prop, result))
-        if args.witness_dir is not None and result.witnesses:
-            report.write_witnesses(args.witness_dir, prop, result)
-        records.append(report.result_record(prop, result, cex))
+    records = [r for prop in props for r in _records(prop, results[prop.name], registry, args)]
     _print(out, records, wall)
     envelopes = _write_maps(maps, args, out) if maps else None
     if args.json:
@@ -153,6 +148,7 @@ def run(args, out, err) -> int:
                 envelopes=envelopes,
             ),
         )
+    records = [r for r in records if r["part_of"] is None]  # the parts are in the JSON report and the table
     if args.junit:
         write_atomic(args.junit, report.junit_report(records, wall_s=wall))
     if args.catalogue:
@@ -162,6 +158,24 @@ def run(args, out, err) -> int:
     statuses = {r["status"] for r in records}
     incomplete = bool(statuses & {"vacuous", "unknown", "error"} or gaps)  # a configuration not wholly covered
     return exit_code(against="falsified" in statuses, incomplete=incomplete)
+
+
+def _records(prop, result, registry, args, part_of: str | None = None) -> list[dict]:
+    """The report records of ``prop`` and, if it was proved in parts, of each part after it (each naming the
+    property it is part of); counterexample and witness files written. A property falsified in parts points to its
+    falsified part's counterexample."""
+    from atcs.proofs import report
+
+    parts = [r for part in result.parts for r in _records(registry[part.name], part, registry, args, prop.name)]
+    cex = None
+    if result.parts:
+        cex = next((r["counterexample"] for r in parts if r["status"] == "falsified" and r["counterexample"]), None)
+    elif result.trace is not None and result.replay is not None:
+        cex = str(report.write_counterexample(args.cex_dir, prop, result))
+    if args.witness_dir is not None and result.witnesses:
+        report.write_witnesses(args.witness_dir, prop, result)
+    record = report.result_record(prop, result, cex) | {"part_of": part_of}
+    return [record, *parts]
 
 
 def _configured(path: str | None, out) -> tuple[dict | None, tuple[str, ...]]:
@@ -180,22 +194,19 @@ def _configured(path: str | None, out) -> tuple[dict | None, tuple[str, ...]]:
     return {p.name: p for p in configuration_properties(config)}, gaps
 
 
-def _prove_or_reuse(props: list, configured: dict | None, args, out, err) -> dict:
-    """The verdict of each property by name: with ``--cache``, the kept ones reused (said in a line) and the
-    others proved and kept (:mod:`atcs.proofs.engine.cache`)."""
+def _prove_or_reuse(props: list, registry, args, out, err) -> dict:
+    """The verdict of each property by name, those that come back ``unknown`` and can be split proved in parts
+    (:mod:`atcs.proofs.engine.split`); with ``--cache``, the kept verdicts reused (said in a line) and the proved
+    ones kept, parts included (:mod:`atcs.proofs.engine.cache`)."""
     if args.cache is None:
-        return _prove_all(props, args, err)
+        return _prove_all(props, args, err, registry, None)
     from atcs.proofs.engine.cache import VerdictCache
-    from atcs.properties import PROPERTIES
 
-    cache = VerdictCache(args.cache, {**PROPERTIES, **(configured or {})})
+    cache = VerdictCache(args.cache, registry)
     reused = {p.name: r for p in props if (r := cache.get(p)) is not None}
     if reused:
         out.print(f"reused {len(reused)} proved verdicts from {args.cache}: " + ", ".join(sorted(reused)))
-    results = _prove_all([p for p in props if p.name not in reused], args, err)
-    for prop in props:
-        if prop.name in results:
-            cache.put(prop, results[prop.name])
+    results = _prove_all([p for p in props if p.name not in reused], args, err, registry, cache)
     return {**reused, **results}
 
 
@@ -277,30 +288,51 @@ def _write_maps(maps: dict, args, out) -> list[dict]:
     return entries
 
 
-def _prove_all(props: list, args, err) -> dict:
-    """The verdict of each property by name, as they finish (a line each in a log); fewer on Ctrl-C."""
+def _prove_all(props: list, args, err, registry, cache) -> dict:
+    """The verdict of each property by name, as they finish (a line each in a log, parts included); fewer on
+    Ctrl-C."""
     from atcs.proofs.engine import suite
+    from atcs.proofs.engine.split import prove_in_parts
 
     results = {}
+    wanted = {p.name for p in props}
     with progress_bar(err, "proving", len(props)) as bar:
-        try:
-            for result in suite.run(
-                props,
+
+        def prove_round(level: list):
+            parts = [p for p in level if p.name not in wanted]
+            bar.more(len(parts))
+            kept = {p.name: r for p in parts if cache is not None and (r := cache.get(p)) is not None}
+            rest = [p for p in level if p.name not in kept]
+            proved = suite.run(
+                rest,
                 timeout_s=args.timeout,
                 jobs=args.jobs,
                 smooth=args.smooth,
                 nominal=args.nominal,
                 configuration=args.config,
-            ):
+            )
+            for result in itertools.chain(kept.values(), proved if rest else ()):
+                if cache is not None:
+                    cache.put(registry[result.name], result)
+                again = result.status == "unknown" and registry[result.name].split is not None
+                line = f"{result.status} {result.name} ({result.seconds:.1f} s)" + (", in parts next" if again else "")
+                bar.done(f"{result.name}: {result.status}", line + (" (reused)" if result.name in kept else ""))
+                yield result
+
+        try:
+            for result in prove_in_parts(props, prove_round):
+                if cache is not None:
+                    cache.put(registry[result.name], result)
                 results[result.name] = result
-                bar.done(f"{result.name}: {result.status}", f"{result.status} {result.name} ({result.seconds:.1f} s)")
         except KeyboardInterrupt:
             pass
     return results
 
 
 def _print(out, records: list[dict], wall_s: float) -> None:
-    table = Table(title=f"atcs prove: {len(records)} properties in {wall_s:.2f} s")
+    wholes = [r for r in records if r.get("part_of") is None]
+    parts = f" ({len(records) - len(wholes)} parts)" if len(records) > len(wholes) else ""
+    table = Table(title=f"atcs prove: {len(wholes)} properties{parts} in {wall_s:.2f} s")
     for heading in ("property", "requirement", "status", "engine", "k", "seconds"):
         table.add_column(heading, justify="right" if heading in ("k", "seconds") else "left")
     for r in records:

@@ -63,6 +63,8 @@ class Result:
     nominal: Nominal | None = None
     """For a counterexample asked to be near nominal (``nominal_cex=True``): its distance to nominal before and
     after."""
+    parts: tuple[Result, ...] = ()
+    """For a property proved in parts (:mod:`atcs.proofs.engine.split`): its halves' results."""
 
     def __post_init__(self):
         self.status = Status(self.status)

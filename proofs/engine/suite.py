@@ -24,13 +24,15 @@ def _use_configuration(path: str) -> None:
 
 def configured_registry(path: str | None) -> dict[str, Property]:
     """The registered properties, and with a configuration file its train- and line-dependent ones
-    (:mod:`atcs.properties.configured`)."""
+    (:mod:`atcs.properties.configured`) and their parts by name (:mod:`atcs.proofs.engine.split`)."""
     if path is None:
         return PROPERTIES
     from atcs.model.configuration import load_configuration
+    from atcs.proofs.engine.split import PropertyRegistry
     from atcs.properties.configured import configuration_properties
 
-    return {**PROPERTIES, **{p.name: p for p in configuration_properties(load_configuration(path))}}
+    configured = configuration_properties(load_configuration(path))
+    return PropertyRegistry({**PROPERTIES, **{p.name: p for p in configured}})
 
 
 def configured_nodes(path: str) -> dict[str, tuple]:

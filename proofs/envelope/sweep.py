@@ -19,15 +19,13 @@ from pathlib import Path
 
 from atcs.model.configuration import Configuration, ConfiguredTrain, DataRange, Line, load_configuration
 from atcs.proofs.engine.prove import Result, prove
+from atcs.proofs.engine.split import WORST_FIRST
 from atcs.proofs.envelope.cells import split, whole_range
 from atcs.properties.configured import curve_family, loop_family
 from atcs.properties.envelope import Cell, cell_families
 from atcs.properties.property import Property
 
 __all__ = ["WORST_FIRST", "CellVerdict", "PropertyMap", "cell_proofs", "envelope_properties", "prove_cell", "sweep"]
-
-WORST_FIRST = ("error", "falsified", "vacuous", "unknown", "proved")
-"""Verdicts from worst to best: a cell's is the worst of its proofs', a map's the worst of its cells'."""
 
 
 @dataclass
