@@ -2,27 +2,48 @@
 
 from __future__ import annotations
 
+import json
 import math
 import tomllib
 from collections.abc import Mapping
 from fractions import Fraction
 from pathlib import Path
+from typing import Any
 
 from atcs.model.errors import AtcsInputError
 from atcs.model.profile import parse_number
 
 
-def read_toml(path: str | Path, error: type[ValueError], what: str) -> dict:
-    """The document of the TOML file ``path``, or ``error`` naming the file (``what`` is, e.g., "the route") when
-    it cannot be read, is not UTF-8 text or is not valid TOML."""
+def read_text(path: str | Path, error: type[ValueError], what: str) -> str:
+    """The text of the file ``path``, or ``error`` naming the file (``what`` is, e.g., "the route") when it cannot
+    be read (missing, a directory, not readable) or is not UTF-8 text."""
     try:
-        return tomllib.loads(Path(path).read_text(encoding="utf-8"))
+        return Path(path).read_text(encoding="utf-8")
     except OSError as exc:
         raise error(f"{path}: cannot read {what}: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise error(f"{path}: {what} is not UTF-8 text") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{path}: {what} is not UTF-8 text (byte {exc.start} is {exc.object[exc.start]:#04x})") from None
+
+
+def read_toml(path: str | Path, error: type[ValueError], what: str) -> dict:
+    """The document of the TOML file ``path``, or ``error`` naming the file (:func:`read_text`) when it cannot be
+    read or is not valid TOML."""
+    try:
+        return tomllib.loads(read_text(path, error, what))
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from None
+
+
+def read_json(path: str | Path, error: type[ValueError], what: str) -> Any:
+    """The document of the JSON file ``path``, or ``error`` naming the file (:func:`read_text`) when it cannot be
+    read or is not JSON (an integer too long to read included)."""
+    text = read_text(path, error, what)
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise error(f"{path}: {what} is not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    except (ValueError, RecursionError) as exc:  # an integer of more than 4300 digits; nesting too deep
+        raise error(f"{path}: {what} cannot be read: {' '.join(str(exc).split())[:120]}") from None
 
 
 class TableReader:

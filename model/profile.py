@@ -13,13 +13,13 @@ work on concrete and symbolic profiles alike.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
 
 from atcs.model.errors import AtcsInputError
+from atcs.model.numbers import exact_number
 from atcs.model.ops import N, Ops
 
 KMH_PER_MPS = Fraction(36, 10)
@@ -43,17 +43,18 @@ class Profile(Generic[N]):
 
 
 def parse_number(field: str, what: str, raw, error: type[ValueError] = ProfileError) -> Fraction:
-    """``raw`` as an exact number, or an ``error`` (:class:`ProfileError` unless given) naming ``field``, ``what``
-    and the value."""
-    if isinstance(raw, bool) or not isinstance(raw, (int, float, Fraction, str)):
-        raise error(f"{field}: {what} = {raw!r} is not a number")
-    if isinstance(raw, float) and not math.isfinite(raw):
-        raise error(f"{field}: {what} = {raw!r} is not finite")
+    """``raw`` as an exact number (:func:`~atcs.model.numbers.exact_number`: its size bounded first), or an
+    ``error`` (:class:`ProfileError` unless given) naming ``field``, ``what`` and the value."""
     try:
-        # a float is taken as the decimal it prints as (80.1 km/h is 801/10, not its binary neighbour)
-        return Fraction(repr(raw)) if isinstance(raw, float) else Fraction(raw)
-    except (ValueError, ZeroDivisionError):
-        raise error(f"{field}: {what} = {raw!r} is not a number") from None
+        return exact_number(raw)
+    except ValueError as exc:
+        raise error(f"{field}: {what} = {_shown(raw)} {exc}") from None
+
+
+def _shown(raw) -> str:
+    """``raw`` as an error message shows it: cut short when long."""
+    text = repr(raw)
+    return text if len(text) <= 60 else f"{text[:40]}...{text[-10:]} ({len(text)} characters)"
 
 
 def _segments(field: str, starts_m: Sequence, values: Sequence, end_m) -> tuple[list[Fraction], Fraction]:

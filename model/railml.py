@@ -27,6 +27,7 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.errors import AtcsInputError
+from atcs.model.numbers import exact_number
 
 __all__ = ["NAMESPACES", "ImportedLine", "RailmlError", "import_line", "line_toml"]
 
@@ -105,9 +106,9 @@ class _File:
                 self.fail(element, attribute, "is missing")
             return None
         try:
-            value = Fraction(raw.strip())
-        except (ValueError, ZeroDivisionError):
-            self.fail(element, attribute, "is not a number")
+            value = exact_number(raw)
+        except ValueError as exc:
+            self.fail(element, attribute, str(exc))
         if abs(value) > 10**7:
             self.fail(element, attribute, "is out of range")
         return value

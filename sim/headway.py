@@ -40,6 +40,7 @@ from atcs.model.curves import FAR_M, Target, ebd_location_m
 from atcs.model.dynamic_profile import CURVE_NAMES, Horizon, supervise_position
 from atcs.model.errors import AtcsInputError
 from atcs.model.node import as_dict
+from atcs.model.numbers import exact_number
 from atcs.model.ops.exact import EXACT
 from atcs.model.plant import plant_gradient
 from atcs.model.position import odometry_interval, speed_accuracy_mps
@@ -115,11 +116,9 @@ def _mode(mode) -> str:
 def _number(name: str, value, *, zero_ok: bool = False) -> Fraction:
     """``value`` as an exact number, positive (or >= 0 with ``zero_ok``); a float as the decimal it prints as."""
     expected = "a number >= 0" if zero_ok else "a positive number"
-    if isinstance(value, bool) or not isinstance(value, (int, float, str, Fraction)):
-        raise HeadwayError(f"{name} must be {expected}, got {value!r}")
     try:
-        exact = Fraction(repr(value)) if isinstance(value, float) else Fraction(value)
-    except (ValueError, ZeroDivisionError):
+        exact = exact_number(value)
+    except ValueError:
         raise HeadwayError(f"{name} must be {expected}, got {value!r}") from None
     if exact < 0 or (exact == 0 and not zero_ok):
         raise HeadwayError(f"{name} must be {expected}, got {value!r}")

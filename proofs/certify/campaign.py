@@ -10,13 +10,13 @@ property, not one per check. Each solver has its own per-check time limit.
 
 from __future__ import annotations
 
-import json
 from collections.abc import Callable, Collection, Iterator, Mapping
 from concurrent.futures import as_completed
 from dataclasses import dataclass
 from enum import StrEnum
 from pathlib import Path
 
+from atcs.model.data_files import read_json
 from atcs.model.errors import AtcsInputError
 from atcs.proofs.certify.obligations import SOLVERS, Obligation, SolverCheck, check_obligation, obligations
 from atcs.proofs.workers import worker_pool
@@ -83,12 +83,7 @@ def _use_configuration(path: str) -> None:
 def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROPERTIES) -> dict[str, int]:
     """The depth of each property proved in a prove report (``atcs prove --json``), parts included (a property
     proved in parts has none of its own); its names must be in ``registry``."""
-    try:
-        doc = json.loads(Path(path).read_text())
-    except OSError as exc:
-        raise ProveReportError(f"{path}: cannot read the prove report: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise ProveReportError(f"{path}: not a JSON prove report: {exc}") from None
+    doc = read_json(path, ProveReportError, "the prove report")
     records = doc.get("properties") if isinstance(doc, dict) else None
     if not isinstance(records, list):
         raise ProveReportError(f"{path}: properties is missing or not a list (is it an atcs prove --json report?)")

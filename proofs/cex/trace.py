@@ -13,7 +13,6 @@ import csv
 import decimal
 import io
 import itertools
-import json
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -21,8 +20,10 @@ from typing import Any
 
 import z3
 
+from atcs.model.data_files import read_json
 from atcs.model.errors import AtcsError, AtcsInputError
 from atcs.model.node import Sort, as_dict, flatten
+from atcs.model.numbers import exact_number
 from atcs.model.ops.exact import EXACT
 from atcs.proofs.engine.system import Unrolling, model_value
 from atcs.properties.property import Property
@@ -267,9 +268,9 @@ def parse_value(path: str, where: str, raw: Any, sort: Sort, error: type[ValueEr
     if isinstance(raw, bool) or not isinstance(raw, (str, int)):
         raise error(f'{path}: {where} must be an exact number as a string such as "1/3", got {raw!r}')
     try:
-        return Fraction(raw)
-    except (ValueError, ZeroDivisionError):
-        raise error(f"{path}: {where} is not a number: {raw!r}") from None
+        return exact_number(raw)
+    except ValueError as exc:
+        raise error(f"{path}: {where} = {raw!r} {exc}") from None
 
 
 def parse_record(
@@ -325,10 +326,4 @@ def from_json(path: str | Path, properties: dict[str, Property]) -> tuple[Proper
 
 def _read_json(path: str) -> Any:
     """The JSON document of a trace file, or a TraceFileError if it cannot be read or is not JSON."""
-    try:
-        with open(path, encoding="utf-8") as fh:
-            return json.load(fh)
-    except OSError as exc:
-        raise TraceFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise TraceFileError(f"{path}: not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    return read_json(path, TraceFileError, "the trace")

@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 from fractions import Fraction
 
+from atcs.model.numbers import exact_number
 from atcs.model.track_layout import MAX_SWITCH_THROW_S
 from atcs.proofs.cli._common import EXIT_OK, UsageError, check_outputs
 
@@ -17,14 +18,15 @@ MAX_SWITCH_LENGTH_M = 500
 
 
 def _bounded(text: str, high, unit: str) -> Fraction:
-    """A number in ``(0, high]``, exactly; checked as a float first, so a huge exponent is refused, not expanded."""
+    """A number in ``(0, high]``, exactly (:func:`~atcs.model.numbers.exact_number`: a huge exponent is refused,
+    not expanded)."""
     try:
-        approximate = float(text)
+        value = exact_number(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a number of {unit}, got {text!r}") from None
-    if not 0 < approximate <= high:
+    if not 0 < value <= high:
         raise argparse.ArgumentTypeError(f"must be in (0, {high}] {unit}, got {text!r}")
-    return Fraction(text)
+    return value
 
 
 def _switch_length(text: str) -> Fraction:

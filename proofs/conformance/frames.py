@@ -5,7 +5,6 @@ the expected rows. A frame the reader cannot use is refused naming the file, the
 from __future__ import annotations
 
 import itertools
-import json
 import math
 import re
 from dataclasses import dataclass
@@ -22,6 +21,7 @@ from atcs.model.braking_data import (
     curve_train_data,
 )
 from atcs.model.curves import check_braking_capability
+from atcs.model.data_files import read_json
 from atcs.model.errors import AtcsInputError
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import KMH_PER_MPS, Profile
@@ -314,12 +314,7 @@ def _inputs(r: _Reader) -> tuple[InputRow, ...]:
 def load_frame(path: str | Path) -> Frame:
     """The frame at ``path`` (:class:`FrameError` naming the file, the field and the value if unusable)."""
     path = Path(path)
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise FrameError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise FrameError(f"{path}: not a JSON frame ({exc})") from None
+    doc = read_json(path, FrameError, "the frame")
     r = _Reader(path, doc)
     train = _train(r)
     mrsp_kmh = min(r.number("inputs.track_data.signalling_related_speed_restriction.value_kmh"), train.max_speed_kmh)

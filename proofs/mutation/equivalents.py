@@ -10,9 +10,9 @@ the campaign then reports it ``equivalent`` instead of ``survived``. Each entry:
 
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
+from atcs.model.data_files import read_toml
 from atcs.model.errors import AtcsInputError
 
 REGISTRY = Path(__file__).with_name("equivalent_mutants.toml")
@@ -25,12 +25,7 @@ class EquivalentsError(AtcsInputError):
 def load_equivalents(path: str | Path = REGISTRY, known: set[str] | None = None) -> dict[str, str]:
     """``{mutant id: reason}``; with ``known`` (every mutant's id), an entry naming no mutant is an error."""
     path = Path(path)
-    try:
-        doc = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise EquivalentsError(f"{path}: cannot read: {exc.strerror}") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise EquivalentsError(f"{path}: not valid TOML: {exc}") from None
+    doc = read_toml(path, EquivalentsError, "the equivalents")
     reasons = {}
     for mutant_id, entry in doc.items():
         if not isinstance(entry, dict) or set(entry) != {"reason"}:

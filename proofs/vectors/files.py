@@ -22,6 +22,7 @@ from importlib import metadata
 from pathlib import Path
 from typing import Any
 
+from atcs.model.data_files import read_json
 from atcs.model.errors import AtcsInputError
 from atcs.model.node import Node, Sort, flatten
 from atcs.proofs.cex import trace
@@ -202,12 +203,7 @@ def read(path: str | Path, configured: dict | None = None) -> VectorFile:
     from atcs.model import NODES
 
     path = Path(path)
-    try:
-        doc = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise VectorFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except json.JSONDecodeError as exc:
-        raise VectorFileError(f"{path}: not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}") from None
+    doc = read_json(path, VectorFileError, "the vector file")
     _need(path, "the top level", doc, dict, "an object")
     if doc.get("format") != FORMAT:
         raise VectorFileError(f"{path}: field 'format' must be {FORMAT!r}, got {doc.get('format')!r}")

@@ -217,7 +217,7 @@ class TestBadInput:
         ("content", "message"),
         [
             (None, "cannot read the prove report"),
-            ("{", "not a JSON prove report"),
+            ("{", "the prove report is not JSON"),
             ('{"runs": []}', "properties is missing or not a list"),
             (
                 '{"properties": [{"name": "nosuch.property", "status": "proved", "k": 0}]}',

@@ -167,13 +167,20 @@ def test_train_data_the_curves_cannot_use_is_refused_naming_the_frame(tmp_path, 
     assert err.startswith(f"atcs: error: conformance: {path}: ") and message in err, err
 
 
-@pytest.mark.parametrize("content", [b"\xff\xfe not utf-8", b"{not json", b""])
-def test_a_file_that_is_not_a_json_frame_is_refused(tmp_path, content):
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        (b"\xff\xfe not utf-8", "the frame is not UTF-8 text"),
+        (b"{not json", "the frame is not JSON"),
+        (b"", "the frame is not JSON"),
+    ],
+)
+def test_a_file_that_is_not_a_json_frame_is_refused(tmp_path, content, reason):
     path = tmp_path / "frame.json"
     path.write_bytes(content)
-    with pytest.raises(FrameError, match="not a JSON frame"):
+    with pytest.raises(FrameError, match=reason):
         load_frame(path)
-    with pytest.raises(FrameError, match="no such file"):
+    with pytest.raises(FrameError, match="cannot read the frame: No such file"):
         load_frame(tmp_path / "missing.json")
 
 

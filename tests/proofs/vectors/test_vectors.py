@@ -177,7 +177,7 @@ class TestVerify:
             ),
             (
                 lambda d: d["vectors"][0]["inputs"].update(speed_mps="fast"),
-                "vectors[0].inputs.speed_mps is not a number",
+                "vectors[0].inputs.speed_mps = 'fast' is not a number",
             ),
             (
                 lambda d: d["vectors"][0]["state"].pop("eb_latched"),

@@ -1,0 +1,161 @@
+"""The bad-input corpus: one case per class of bad input on each surface that reads it, each refused with exit 2 and
+one line naming the file (or the option), the field and the value: never a traceback, an internal error or a hang.
+
+Classes: a file that is not UTF-8 text; a number too large to read (``1e300000000``, which an exact reader would
+expand into 300 million digits; ``1e5000``, beyond every float).
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from atcs.proofs.cli import main
+from atcs.properties import PROPERTIES
+from tests.proofs.cli.test_errors import one_line
+
+ROOT = Path(__file__).parents[3]
+SCENARIO = ROOT / "sim" / "scenarios" / "seed000_normal.toml"
+CONFIGURATION = ROOT / "model" / "configurations" / "seeds.toml"
+TRAIN = ROOT / "model" / "trains" / "gamma_passenger_P.toml"
+RAILML = ROOT / "tests" / "model" / "data" / "junction_line.railml"
+PLATFORMS = """
+[[platforms.table]]
+start_m = 100
+length_m = 200
+side = "left"
+height_mm = 760
+"""
+NOT_UTF8 = b"\xff\xfe\x00 not text"
+HUGE = ("1e300000000", "1e5000")
+
+
+def _trace(prop_name: str, **inputs) -> dict:
+    """A counterexample file of one step of ``prop_name``'s node, every value 0 or false but ``inputs``."""
+    node = PROPERTIES[prop_name].node
+
+    def record(part: str, given: dict) -> dict:
+        def value(sort):
+            one = False if sort.kind == "bool" else "0"
+            return one if sort.size is None else [one] * sort.size
+
+        assert set(given) <= set(node.sorts(part)), given
+        return {name: given.get(name, value(sort)) for name, sort in node.sorts(part).items()}
+
+    return {
+        "format": "atcs-trace/1",
+        "property": prop_name,
+        "node": node.name,
+        "violation_step": 0,
+        "params": record("params", {}),
+        "steps": [{"state": record("state", {}), "inputs": record("inputs", inputs)}],
+        "final_state": record("state", {}),
+    }
+
+
+def _write(tmp_path: Path, name: str, content: str | bytes) -> Path:
+    path = tmp_path / name
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content, encoding="utf-8")
+    return path
+
+
+def _edited(source: Path, old: str, new: str) -> str:
+    text = source.read_text(encoding="utf-8")
+    assert old in text, (source, old)
+    return text.replace(old, new, 1)
+
+
+# --- each surface that reads a file: (argv with {file}, the file's name) ----------------------------------------
+
+FILE_SURFACES = {
+    "scenario": (["sim", "{file}"], "s.toml"),
+    "configuration": (["prove", "--config", "{file}"], "c.toml"),
+    "train data": (["curves", "--train", "{file}", "--out", "{tmp}/out"], "t.toml"),
+    "platform data": (["platforms", "{file}"], "p.toml"),
+    "railML": (
+        ["railml", "{file}", "--name", "x", "--net-elements", "a,b,c", "--switch-throw-s", "6", "--out", "{tmp}/o"],
+        "l.railml",
+    ),
+    "counterexample": (["replay", "{file}"], "cex.json"),
+    "prove report": (
+        ["certify", "--only", "supervision.eb_above_ebi", "--report", "{file}", "--dir", "{tmp}/c"],
+        "r.json",
+    ),
+    "equivalents": (["mutate", "--list", "--equivalents", "{file}"], "e.toml"),
+    "conformance frame": (["conformance", "{file}"], "f.json"),
+}
+
+
+def _run(tmp_path: Path, surface: str, content: str | bytes, capsys) -> str:
+    argv, name = FILE_SURFACES[surface]
+    path = _write(tmp_path, name, content)
+    code = main([a.format(file=path, tmp=tmp_path) for a in argv])
+    line = one_line(capsys, "atcs: error: ")
+    assert code == 2, line
+    assert str(path) in line, line
+    return line
+
+
+@pytest.mark.parametrize("surface", FILE_SURFACES)
+def test_a_file_that_is_not_utf8_text_is_refused_naming_it(tmp_path, surface, capsys):
+    line = _run(tmp_path, surface, NOT_UTF8, capsys)
+    # XML declares its own encoding: the parser reads the bytes, and finds no XML
+    reason = "not well-formed XML" if surface == "railML" else "is not UTF-8 text (byte 0 is 0xff)"
+    assert reason in line, line
+
+
+def test_a_vector_file_that_is_not_utf8_text_is_refused_naming_it(tmp_path, capsys):
+    _write(tmp_path, "supervision.json", NOT_UTF8)
+    assert main(["vectors", "verify", str(tmp_path)]) == 2
+    line = one_line(capsys, "atcs: error: ")
+    assert f"{tmp_path / 'supervision.json'}: the vector file is not UTF-8 text" in line
+
+
+HUGE_FILES = {
+    "scenario": lambda v: _edited(SCENARIO, "safety_margin_m = 20", f'safety_margin_m = "{v}"'),
+    "configuration": lambda v: _edited(CONFIGURATION, "length_m = 5000", f'length_m = "{v}"'),
+    "train data": lambda v: _edited(TRAIN, "length_m = 600", f'length_m = "{v}"'),
+    "platform data": lambda v: PLATFORMS.replace("start_m = 100", f'start_m = "{v}"'),
+    "railML": lambda v: _edited(RAILML, 'pos="300"', f'pos="{v}"'),
+    "counterexample": lambda v: json.dumps(_trace("supervision.eb_above_ebi", speed_mps=v)),
+}
+"""How each file surface is given a huge number as text (JSON numbers that large read as infinity: below)."""
+
+
+@pytest.mark.parametrize("value", HUGE)
+@pytest.mark.parametrize("surface", HUGE_FILES)
+def test_a_number_too_large_to_read_is_refused_naming_the_field(tmp_path, surface, value, capsys):
+    line = _run(tmp_path, surface, HUGE_FILES[surface](value), capsys)
+    assert value in line and ("exponent beyond" in line or "larger than 1e300" in line), line
+
+
+REPORT = '{"properties": [{"name": "supervision.eb_above_ebi", "status": "proved", "k": 1e300000000}]}'
+
+
+def test_a_json_number_too_large_for_a_float_is_refused(tmp_path, capsys):
+    line = _run(tmp_path, "prove report", REPORT, capsys)
+    assert "properties[0].k = inf" in line, line
+
+
+@pytest.mark.parametrize("value", HUGE)
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["curves", "--eoa", "{v}"],
+        ["curves", "--eoa-speed", "{v}"],
+        ["curves", "--mrsp", "0:{v}"],
+        ["curves", "--gradient", "0:{v}"],
+        ["headway", "--speed", "{v}"],
+        ["railml", str(RAILML), "--name", "x", "--switch-length-m", "{v}"],
+    ],
+    ids=lambda a: " ".join(a[:2]) if isinstance(a, list) else a,
+)
+def test_an_option_too_large_to_read_is_refused_naming_it(tmp_path, argv, value, capsys):
+    code = main([a.format(v=value) for a in argv] + (["--out", str(tmp_path / "o")] if argv[0] == "curves" else []))
+    line = one_line(capsys, "atcs: error: ")
+    assert code == 2 and value in line, line
