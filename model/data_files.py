@@ -66,7 +66,9 @@ class TableReader:
     def fail(self, key: str, problem: str):
         raise self.error(f"{self.source}: {self.name(key)} = {self.table.get(key)!r} {problem}")
 
-    def number(self, key: str, default=None, *, minimum=None, positive=False) -> Fraction:
+    def number(self, key: str, default=None, *, minimum=None, maximum=None, positive=False) -> Fraction:
+        """The field ``key`` as an exact number (``default`` when absent, else it is required), checked against
+        the bounds given."""
         if key not in self.table:
             if default is None:
                 raise self.error(f"{self.source}: {self.name(key)} is missing")
@@ -76,6 +78,8 @@ class TableReader:
             self.fail(key, "must be positive")
         if minimum is not None and value < minimum:
             self.fail(key, f"must be at least {minimum}")
+        if maximum is not None and value > maximum:
+            self.fail(key, f"must be at most {maximum}")
         return value
 
     def optional_number(self, key: str, **limits) -> Fraction | None:

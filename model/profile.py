@@ -65,6 +65,8 @@ def _segments(field: str, starts_m: Sequence, values: Sequence, end_m) -> tuple[
         )
     starts = [parse_number(field, f"starts_m[{j}]", s) for j, s in enumerate(starts_m)]
     end = parse_number(field, "end_m", end_m)
+    if starts[0] != 0:
+        raise ProfileError(f"{field}: starts_m[0] = {starts_m[0]!r} is not 0 (a profile starts at the line's start)")
     for j in range(1, len(starts)):
         if starts[j] <= starts[j - 1]:
             raise ProfileError(

@@ -17,12 +17,12 @@ from fractions import Fraction
 from pathlib import Path
 
 from atcs.model.braking_data import curve_train_data
-from atcs.model.configuration import ConfigurationError, load_configuration
+from atcs.model.configuration import MAX_LINE_M, ConfigurationError, load_configuration
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
 from atcs.model.platforms import Platform, PlatformDataError, Station, platform_data, station_stops
 from atcs.model.position import TagTable, grid_tags
-from atcs.model.profile import KMH_PER_MPS, parse_number
+from atcs.model.profile import KMH_PER_MPS, MAX_GRADIENT_PERMILLE, MAX_SPEED_KMH, parse_number
 from atcs.model.route import Resource, grid_resources
 from atcs.model.track_layout import track_layout
 from atcs.model.train_data import PRESETS as TRAIN_PRESETS
@@ -38,6 +38,8 @@ from atcs.model.train_files import load_train
 from atcs.sim.double_track import TRACKS, DoubleTrack
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
+MAX_CYCLE_S = 1
+"""The longest ATP cycle a scenario may give (s): the position node expects a tag read within one cycle's run."""
 PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
 """The seeds' trains a scenario's ``preset`` names."""
 NATIONAL = {"subset026": subset026_national, "seed002": seed002_national}
@@ -191,8 +193,10 @@ class _Reader(TableReader):
 
 
 def _segments(
-    reader: _Reader, key: str, value_key: str, default: Fraction, line_m: Fraction, *, positive: bool
+    reader: _Reader, key: str, value_key: str, default: Fraction, line_m: Fraction, *, positive: bool, high
 ) -> tuple[Segment, ...]:
+    """The rows of ``key``: from 0, increasing starts on the line, values in (0, high] (``positive``) or
+    [-high, high]."""
     rows = reader.rows(key)
     if not rows:
         return (Segment(Fraction(0), default),)
@@ -200,7 +204,7 @@ def _segments(
     for j, row in enumerate(rows):
         r = _Reader(reader.source, row, f"{reader.name(key)}[{j}]", ("start_m", value_key))
         start = r.number("start_m", minimum=0)
-        value = r.number(value_key, positive=positive)
+        value = r.number(value_key, positive=positive, minimum=None if positive else -high, maximum=high)
         if j == 0 and start != 0:
             r.fail("start_m", "must be 0 for the first segment")
         if j > 0 and start <= segments[-1].start_m:
@@ -472,7 +476,7 @@ def load_scenario(path: str | Path) -> Scenario:
         ),
     )
     configured = _configured_line(line)
-    length_m = line.number("length_m", positive=True) if configured is None else configured.length_m
+    length_m = line.number("length_m", positive=True, maximum=MAX_LINE_M) if configured is None else configured.length_m
     spacings, one_by_one = _track_layout(line, configured, length_m)
     layout = _double_track(line, length_m, spacings, one_by_one)
     line_m = layout.loop_m if layout is not None else length_m
@@ -502,7 +506,7 @@ def load_scenario(path: str | Path) -> Scenario:
     if not rows:
         raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
     national = NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))]()
-    cycle_s = top.number("cycle_s", "0.1", positive=True)
+    cycle_s = top.number("cycle_s", "0.1", positive=True, maximum=MAX_CYCLE_S)
     trains = _trains_in_order(
         source,
         [_train(source, row, j, length_m, layout, tags, national, cycle_s) for j, row in enumerate(rows)],
@@ -631,8 +635,10 @@ def _line_profiles(
     """The line's speed limits and gradients (the scenario's, or the ``configured`` line's), laid out over both
     tracks of a double track."""
     if configured is None:
-        speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True)
-        gradients = _segments(line, "gradients", "permille", Fraction(0), length_m, positive=False)
+        speed_limits = _segments(line, "speed_limits", "kmh", Fraction(80), length_m, positive=True, high=MAX_SPEED_KMH)
+        gradients = _segments(
+            line, "gradients", "permille", Fraction(0), length_m, positive=False, high=MAX_GRADIENT_PERMILLE
+        )
     else:
         limits, grads = configured.speed_limits, configured.gradients
         speed_limits = tuple(Segment(x, v * KMH_PER_MPS) for x, v in zip(limits.starts_m, limits.values, strict=True))

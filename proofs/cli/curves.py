@@ -153,7 +153,15 @@ def _train(args):
 
 def _query(args, train) -> dict:
     """The options as exact numbers and profiles; a bad or out-of-range one is a usage error."""
-    from atcs.model.profile import KMH_PER_MPS, ProfileError, gradient_profile, parse_number, speed_profile
+    from atcs.model.configuration import MAX_LINE_M
+    from atcs.model.profile import (
+        KMH_PER_MPS,
+        MAX_SPEED_KMH,
+        ProfileError,
+        gradient_profile,
+        parse_number,
+        speed_profile,
+    )
 
     with reraised("curves: ", ProfileError):
         q = {
@@ -171,20 +179,17 @@ def _query(args, train) -> dict:
         end_m = max(q["eoa_m"], *starts, *(parse_number("--gradient", "start", s) for s in gradient_starts)) + 100
         q["mrsp"] = speed_profile("--mrsp", mrsp_starts, limits, end_m)
         q["gradient"] = gradient_profile("--gradient", gradient_starts, gradients, end_m)
-    speed = q["speed"]
-    for option, value, ok in (
-        ("--eoa", q["eoa_m"], q["eoa_m"] > 0),
-        ("--eoa-speed", q["eoa_speed"], q["eoa_speed"] >= 0),
-        ("--front", q["front_m"], 0 <= q["front_m"] < q["eoa_m"]),
-        ("--a-est", q["a_est"], q["a_est"] >= 0),
-        ("--speed", speed, speed is None or speed > 0),
+    speed, top, a_max = q["speed"], MAX_SPEED_KMH / KMH_PER_MPS, train.max_acceleration_mps2
+    for option, value, ok, why in (
+        ("--eoa", q["eoa_m"], 0 < q["eoa_m"] <= MAX_LINE_M, f"above 0, at most {MAX_LINE_M} m"),
+        ("--eoa-speed", q["eoa_speed"], 0 <= q["eoa_speed"] <= top, f"0 to {MAX_SPEED_KMH} km/h"),
+        ("--front", q["front_m"], 0 <= q["front_m"] < q["eoa_m"], "from 0, before the EoA"),
+        ("--a-est", q["a_est"], 0 <= q["a_est"] <= a_max, f"from 0 to the train's A_max, {float(a_max):.4g} m/s^2"),
+        ("--speed", speed, speed is None or 0 < speed <= top, f"above 0, at most {MAX_SPEED_KMH} km/h"),
     ):
         if not ok:
             shown = float(value * KMH_PER_MPS) if option in ("--eoa-speed", "--speed") else float(value)
-            raise UsageError(
-                f"curves: {option} = {shown:g} is out of range"
-                + (" (the front must lie before the EoA, from 0)" if option == "--front" else "")
-            )
+            raise UsageError(f"curves: {option} = {shown:g} is out of range ({why})")
     return q
 
 

@@ -159,3 +159,41 @@ def test_an_option_too_large_to_read_is_refused_naming_it(tmp_path, argv, value,
     code = main([a.format(v=value) for a in argv] + (["--out", str(tmp_path / "o")] if argv[0] == "curves" else []))
     line = one_line(capsys, "atcs: error: ")
     assert code == 2 and value in line, line
+
+
+# --- values out of their range, which were accepted silently -------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--mrsp", "500:80"], "--mrsp: starts_m[0] = '500' is not 0"),
+        (["--gradient=-100:0,500:5"], "--gradient: starts_m[0] = '-100' is not 0"),
+        (["--a-est", "1e9"], "--a-est = 1e+09 is out of range (from 0 to the train's A_max"),
+        (["--eoa", "1e200"], "--eoa = 1e+200 is out of range (above 0, at most 1000000 m)"),
+        (["--speed", "1000"], "--speed = 1000 is out of range (above 0, at most 600 km/h)"),
+    ],
+)
+def test_a_curves_option_out_of_range_is_refused(tmp_path, argv, message, capsys):
+    assert main(["curves", *argv, "--out", str(tmp_path / "o")]) == 2
+    assert message in one_line(capsys, "atcs: error: curves: ")
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "message"),
+    [
+        ("kmh = 80 }]", "kmh = 10000 }]", "line.speed_limits[0].kmh = 10000 must be at most 600"),
+        (
+            "speed_limits = [{ start_m = 0, kmh = 80 }]",
+            "speed_limits = [{ start_m = 0, kmh = 80 }]\ngradients = [{ start_m = 0, permille = 500 }]",
+            "line.gradients[0].permille = 500 must be at most 100",
+        ),
+        ("cycle_s = 0.1", "cycle_s = 100", "cycle_s = 100 must be at most 1"),
+        ("length_m = 15000", "length_m = 1e9", "line.length_m = 1000000000.0 must be at most 1000000"),
+    ],
+)
+def test_a_scenario_value_out_of_range_is_refused(tmp_path, old, new, message, capsys):
+    path = _write(tmp_path, "s.toml", _edited(SCENARIO, old, new))
+    assert main(["sim", str(path)]) == 2
+    assert f"{path}: {message}" in one_line(capsys, "atcs: error: sim: ")
