@@ -276,8 +276,16 @@ def verify(args, out, err) -> int:
 def check(args, out, err) -> int:
     from atcs.proofs.vectors.check import ImplementationError, ImplementationStartError
     from atcs.proofs.vectors.check import check as check_implementation
+    from atcs.proofs.vectors.files import edits
 
     files = _vector_files("check", args.dir, args.function, _configured(args.config))
+    for vf in files:
+        found = edits(vf)
+        if found:
+            raise UsageError(
+                f"vectors check: {vf.path}: {found[0]}; a vector file is checked only as generated "
+                "(atcs vectors verify lists every difference)"
+            )
     try:
         with reraised("vectors check: ", ImplementationStartError):
             outcomes = check_implementation(

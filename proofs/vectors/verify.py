@@ -15,7 +15,6 @@ its property.
 
 from __future__ import annotations
 
-import hashlib
 import json
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -26,7 +25,7 @@ import z3
 from atcs.model.node import as_dict
 from atcs.model.ops.symbolic import unwrap
 from atcs.proofs.cex.trace import format_value
-from atcs.proofs.vectors.files import VectorFile, content_sha256, model_sha256, read, to_csv
+from atcs.proofs.vectors.files import VectorFile, edits, model_sha256, read
 from atcs.proofs.vectors.generate import Vector, expected
 from atcs.proofs.vectors.goals import BOUNDARY_DELTA, Decision, StepFrame, boundaries, decisions, gap
 
@@ -97,18 +96,7 @@ def _show(value) -> str:
 
 def _check_hashes(vf: VectorFile, problems: list[str]) -> None:
     m = vf.manifest
-    content = content_sha256(vf.goals, vf.raw)
-    if content != m["content_sha256"]:
-        problems.append(f"edited: the goals and vectors hash to {content}, the manifest says {m['content_sha256']}")
-    csv_path = vf.path.with_suffix(".csv")
-    if not csv_path.exists():
-        problems.append(f"{csv_path.name} is missing")
-    else:
-        data = csv_path.read_bytes()
-        if hashlib.sha256(data).hexdigest() != m["csv_sha256"]:
-            problems.append(f"edited: {csv_path.name} does not match the manifest's csv_sha256")
-        elif data.decode() != to_csv(vf.raw):
-            problems.append(f"{csv_path.name} is not the table of the JSON file's vectors")
+    problems += edits(vf)
     source = model_sha256()
     if source != m["model_sha256"]:
         problems.append(
@@ -116,10 +104,9 @@ def _check_hashes(vf: VectorFile, problems: list[str]) -> None:
             f"the manifest says {m['model_sha256']}"
         )
     for j, raw in enumerate(vf.raw):
-        floats = raw.get("expected_float")
-        exact = raw["expected"]
-        if not isinstance(floats, dict) or any(
-            _as_float(exact[role].get(n)) != floats.get(role, {}).get(n)
+        floats, exact = raw["expected_float"], raw["expected"]
+        if any(
+            _as_float(exact[role].get(n)) != floats[role].get(n)
             for role in ("next_state", "outputs")
             for n in exact[role]
         ):

@@ -8,6 +8,8 @@ expand into 300 million digits; ``1e5000``, beyond every float).
 from __future__ import annotations
 
 import json
+import shutil
+import sys
 from pathlib import Path
 
 import pytest
@@ -197,3 +199,58 @@ def test_a_scenario_value_out_of_range_is_refused(tmp_path, old, new, message, c
     path = _write(tmp_path, "s.toml", _edited(SCENARIO, old, new))
     assert main(["sim", str(path)]) == 2
     assert f"{path}: {message}" in one_line(capsys, "atcs: error: sim: ")
+
+
+# --- vector files: malformed, and edited since they were generated ---------------------------------------------
+
+IMPL = ROOT / "tests" / "proofs" / "vectors" / "impl" / "supervision_impl.py"
+
+
+@pytest.fixture(scope="module")
+def generated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("generated")
+    assert main(["vectors", "generate", "--function", "supervision", "--out", str(out)]) == 0
+    return out
+
+
+@pytest.fixture
+def vectors(generated, tmp_path):
+    return Path(shutil.copytree(generated, tmp_path / "v"))
+
+
+def _edit_vectors(directory: Path, edit) -> Path:
+    path = directory / "supervision.json"
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    edit(doc)
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("command", ["verify", "check"])
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda d: d["vectors"][0].update(covers=[1]), "vectors[0].covers[0] must be a goal id (a string), got 1"),
+        (lambda d: d["vectors"][0].pop("expected_float"), "vectors[0].expected_float must be an object, got None"),
+    ],
+    ids=["covers", "expected_float"],
+)
+def test_a_malformed_vector_file_is_refused_naming_the_field(vectors, command, edit, message, capsys):
+    path = _edit_vectors(vectors, edit)
+    extra = ["--impl", f"{sys.executable} {IMPL}"] if command == "check" else []
+    assert main(["vectors", command, *extra, str(vectors)]) == 2
+    assert f"{path}: {message}" in one_line(capsys, f"atcs: error: vectors {command}: ")
+
+
+def test_vectors_check_refuses_a_file_edited_since_it_was_generated(vectors, capsys):
+    path = _edit_vectors(vectors, lambda d: d["vectors"][0]["expected"]["outputs"].update(emergency_brake=False))
+    assert main(["vectors", "check", "--impl", f"{sys.executable} {IMPL}", str(vectors)]) == 2
+    line = one_line(capsys, "atcs: error: vectors check: ")
+    assert f"{path}: edited: the goals and vectors hash to " in line and "checked only as generated" in line
+
+
+def test_vectors_verify_reports_a_directory_in_place_of_the_table(vectors, capsys):
+    (vectors / "supervision.csv").unlink()
+    (vectors / "supervision.csv").mkdir()
+    assert main(["vectors", "verify", str(vectors)]) == 1
+    assert "supervision.json: supervision.csv is not a file" in capsys.readouterr().out
