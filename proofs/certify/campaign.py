@@ -19,6 +19,7 @@ from pathlib import Path
 from atcs.model.data_files import read_json
 from atcs.model.errors import AtcsInputError
 from atcs.proofs.certify.obligations import SOLVERS, Obligation, SolverCheck, check_obligation, obligations
+from atcs.proofs.engine.prove import Status
 from atcs.proofs.workers import worker_pool
 from atcs.properties import PROPERTIES, Property
 
@@ -80,6 +81,10 @@ def _use_configuration(path: str) -> None:
     _registry_in_this_worker = configured_registry(path)
 
 
+STATUSES = tuple(s.value for s in Status)
+"""The verdicts a prove report records."""
+
+
 def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROPERTIES) -> dict[str, int]:
     """The depth of each property proved in a prove report (``atcs prove --json``), parts included (a property
     proved in parts has none of its own); its names must be in ``registry``."""
@@ -94,9 +99,16 @@ def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROP
         )
         if not isinstance(name, str) or name not in registry:
             raise ProveReportError(f"{path}: properties[{j}].name = {name!r} is not a registered property")
+        if status not in STATUSES:
+            raise ProveReportError(
+                f"{path}: properties[{j}].status = {status!r} (of {name}) is not a verdict ({', '.join(STATUSES)})"
+            )
         if status == "proved" and not record.get("parts"):  # one proved in parts has its parts' records
-            if not isinstance(k, int) or isinstance(k, bool) or k < 0:
-                raise ProveReportError(f"{path}: properties[{j}].k = {k!r} (of {name}) is not a depth")
+            deepest = registry[name].max_k
+            if not isinstance(k, int) or isinstance(k, bool) or not 0 <= k <= deepest:
+                raise ProveReportError(
+                    f"{path}: properties[{j}].k = {k!r} (of {name}) is not a depth from 0 to its max_k, {deepest}"
+                )
             depths[name] = k
     return depths
 

@@ -136,12 +136,23 @@ def test_a_number_too_large_to_read_is_refused_naming_the_field(tmp_path, surfac
     assert value in line and ("exponent beyond" in line or "larger than 1e300" in line), line
 
 
-REPORT = '{"properties": [{"name": "supervision.eb_above_ebi", "status": "proved", "k": 1e300000000}]}'
+def _report(status="proved", k=1) -> str:
+    return json.dumps({"properties": [{"name": "supervision.eb_above_ebi", "status": status, "k": k}]})
 
 
-def test_a_json_number_too_large_for_a_float_is_refused(tmp_path, capsys):
-    line = _run(tmp_path, "prove report", REPORT, capsys)
-    assert "properties[0].k = inf" in line, line
+@pytest.mark.parametrize(
+    ("report", "message"),
+    [
+        (_report(k=1e300), "properties[0].k = 1e+300 (of supervision.eb_above_ebi) is not a depth from 0 to"),
+        (_report().replace("1}", "1e300000000}"), "properties[0].k = inf"),
+        (_report(k=100000), "properties[0].k = 100000 (of supervision.eb_above_ebi) is not a depth from 0 to"),
+        (_report(status="Proved"), "properties[0].status = 'Proved' (of supervision.eb_above_ebi) is not a verdict"),
+    ],
+    ids=["huge", "infinite", "deeper than max_k", "status"],
+)
+def test_a_prove_report_with_a_bad_verdict_or_depth_is_refused(tmp_path, report, message, capsys):
+    line = _run(tmp_path, "prove report", report, capsys)
+    assert message in line, line
 
 
 @pytest.mark.parametrize("value", HUGE)
