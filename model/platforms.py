@@ -20,6 +20,7 @@ that sent it, or from a scenario's table. Both forms are read by
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
@@ -198,7 +199,14 @@ def _packet(section: Mapping, where: str) -> tuple[Platform, ...]:
 def _table(rows, where: str) -> tuple[Platform, ...]:
     if not isinstance(rows, list):
         raise PlatformDataError(f"{where}: table = {rows!r} must be a list of [[platforms.table]] entries")
-    return tuple(_table_row(row, f"{where} table[{k}]") for k, row in enumerate(rows))
+    table = tuple(_table_row(row, f"{where} table[{k}]") for k, row in enumerate(rows))
+    for (j, a), (k, b) in itertools.combinations(enumerate(table), 2):
+        if a.start_m < b.end_m and b.start_m < a.end_m and ((a.left and b.left) or (a.right and b.right)):
+            raise PlatformDataError(
+                f"{where} table[{k}]: [{b.start_m}, {b.end_m}] m overlaps table[{j}] ([{a.start_m}, {a.end_m}] m) "
+                "on the same side: one platform edge per side and place"
+            )
+    return table
 
 
 def _table_row(row, entry: str) -> Platform:

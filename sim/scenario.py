@@ -311,6 +311,8 @@ def _train(
         value = None
         for key, default in own.items():
             value = f.number(key, default, positive=True)
+            if key == "tag_id" and value.denominator != 1:
+                f.fail(key, "must be a whole number (a tag's id)")
         faults.append(Fault(kind, *_window(f), value))
     first_door = r.number("first_door_m", 10, minimum=0)
     last_door = r.number("last_door_m", data.train_length_m - 10, minimum=0)

@@ -6,6 +6,7 @@ The expected bit strings are built here by hand from the layout (``f"{value:0{wi
 own :class:`~atcs.model.bits.BitWriter`.
 """
 
+import itertools
 from fractions import Fraction
 
 import pytest
@@ -628,7 +629,16 @@ class TestPlatformData:
             {"start_m": str(p.start_m), "length_m": str(p.end_m - p.start_m), "side": p.side, "height_mm": p.height_mm}
             for p in from_packet
         ]
-        assert platform_data({"table": rows}, "s.toml") == from_packet == platforms_from_packet(packet, reference)
+        assert from_packet == platforms_from_packet(packet, reference)
+        overlap = any(
+            a.start_m < b.end_m and b.start_m < a.end_m and ((a.left and b.left) or (a.right and b.right))
+            for a, b in itertools.combinations(from_packet, 2)
+        )
+        if overlap:  # a packet may lay two edges on one side and place; a table written by hand may not
+            with pytest.raises(PlatformDataError, match="on the same side: one platform edge per side and place"):
+                platform_data({"table": rows}, "s.toml")
+        else:
+            assert platform_data({"table": rows}, "s.toml") == from_packet
 
     def test_direction(self, tmp_path):
         reverse = encode_packet69(Packet69(0, 1, (E1,))).hex()

@@ -265,3 +265,21 @@ def test_vectors_verify_reports_a_directory_in_place_of_the_table(vectors, capsy
     (vectors / "supervision.csv").mkdir()
     assert main(["vectors", "verify", str(vectors)]) == 1
     assert "supervision.json: supervision.csv is not a file" in capsys.readouterr().out
+
+
+def test_a_fault_naming_a_tag_by_a_fraction_is_refused(tmp_path, capsys):
+    fault = '\nfaults = [{ kind = "spurious_tag", tag_id = 1.5 }]\n'
+    path = _write(tmp_path, "s.toml", _edited(SCENARIO, "max_speed_kmh = 80\n", "max_speed_kmh = 80" + fault))
+    assert main(["sim", str(path)]) == 2
+    line = one_line(capsys, "atcs: error: sim: ")
+    assert f"{path}: trains[0].faults[0].tag_id = 1.5 must be a whole number" in line, line
+
+
+def test_platform_edges_overlapping_on_one_side_are_refused(tmp_path, capsys):
+    second = PLATFORMS.replace("start_m = 100", "start_m = 250").replace('side = "left"', 'side = "both"')
+    path = _write(tmp_path, "p.toml", PLATFORMS + second)
+    assert main(["platforms", str(path)]) == 2
+    line = one_line(capsys, "atcs: error: platforms: ")
+    assert "table[1]: [250, 450] m overlaps table[0] ([100, 300] m) on the same side" in line, line
+    other_side = _write(tmp_path, "q.toml", PLATFORMS + second.replace("both", "right"))
+    assert main(["platforms", str(other_side)]) == 0  # an island platform: one edge each side
