@@ -283,3 +283,48 @@ def test_platform_edges_overlapping_on_one_side_are_refused(tmp_path, capsys):
     assert "table[1]: [250, 450] m overlaps table[0] ([100, 300] m) on the same side" in line, line
     other_side = _write(tmp_path, "q.toml", PLATFORMS + second.replace("both", "right"))
     assert main(["platforms", str(other_side)]) == 0  # an island platform: one edge each side
+
+
+# --- wrong types, unknown keys and non-finite numbers in each data file ------------------------------------------
+
+TOML_EDITS = {
+    "scenario": (SCENARIO, "safety_margin_m = 20"),
+    "configuration": (CONFIGURATION, "length_m = 5000"),
+    "train data": (TRAIN, "length_m = 600"),
+}
+"""A data file surface, its shipped example and a numeric field in it."""
+
+
+@pytest.mark.parametrize("surface", TOML_EDITS)
+@pytest.mark.parametrize(
+    ("value", "reason"),
+    [("nan", "is not finite"), ("inf", "is not finite"), ('"fast"', "is not a number"), ("[1]", "is not a number")],
+    ids=["nan", "inf", "text", "list"],
+)
+def test_a_number_field_of_another_type_is_refused_naming_it(tmp_path, surface, value, reason, capsys):
+    source, field = TOML_EDITS[surface]
+    key = field.split(" = ")[0]
+    line = _run(tmp_path, surface, _edited(source, field, f"{key} = {value}"), capsys)
+    assert f"{key} = " in line and reason in line, line
+
+
+@pytest.mark.parametrize("surface", TOML_EDITS)
+def test_an_unknown_field_is_refused_naming_it(tmp_path, surface, capsys):
+    source, field = TOML_EDITS[surface]
+    line = _run(tmp_path, surface, _edited(source, field, f"{field}\ncolour = 1"), capsys)
+    assert "colour: unknown field" in line, line
+
+
+@pytest.mark.parametrize(
+    ("packet", "message"),
+    [
+        ("zz", "'z' is not a hex digit"),
+        ("45", "truncated"),
+        ("ff" * 5000, "255 is neither 69 nor 44"),
+        ("4 5 0", "3 hex digits are not whole bytes"),
+    ],
+    ids=["not hex", "truncated", "long", "odd digits"],
+)
+def test_a_bad_packet_is_refused_naming_the_bit(packet, message, capsys):
+    assert main(["platforms", "--packet", packet, "--reference-m", "0"]) == 2
+    assert message in one_line(capsys, "atcs: error: platforms: --packet: ")
