@@ -38,6 +38,8 @@ from atcs.model.train_files import load_train
 from atcs.sim.double_track import TRACKS, DoubleTrack
 
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
+MAX_DURATION_S = 86_400
+"""The longest run a scenario may ask for (s): a day of operation."""
 MAX_CYCLE_S = 1
 """The longest ATP cycle a scenario may give (s): the position node expects a tag read within one cycle's run."""
 PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
@@ -523,7 +525,7 @@ def load_scenario(path: str | Path) -> Scenario:
         seed=top.text("seed"),
         description=top.text("description", ""),
         source=source,
-        duration_s=top.number("duration_s", positive=True),
+        duration_s=top.number("duration_s", positive=True, maximum=MAX_DURATION_S),
         cycle_s=cycle_s,
         line_m=line_m,
         tags=tags,

@@ -203,6 +203,7 @@ def test_a_curves_option_out_of_range_is_refused(tmp_path, argv, message, capsys
             "line.gradients[0].permille = 500 must be at most 100",
         ),
         ("cycle_s = 0.1", "cycle_s = 100", "cycle_s = 100 must be at most 1"),
+        ("duration_s = 320", "duration_s = 1e9", "duration_s = 1000000000.0 must be at most 86400"),
         ("length_m = 15000", "length_m = 1e9", "line.length_m = 1000000000.0 must be at most 1000000"),
     ],
 )
