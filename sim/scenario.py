@@ -40,6 +40,8 @@ from atcs.sim.double_track import TRACKS, DoubleTrack
 SCENARIO_DIR = Path(__file__).parent / "scenarios"
 MAX_DURATION_S = 86_400
 """The longest run a scenario may ask for (s): a day of operation."""
+MAX_PLANNING_DECEL_KMHPS = 18
+"""The highest deceleration the ATO may plan with (km/h/s): 5 m/s^2, above any train's service brake."""
 MAX_CYCLE_S = 1
 """The longest ATP cycle a scenario may give (s): the position node expects a tag read within one cycle's run."""
 PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
@@ -327,8 +329,8 @@ def _train(
         name=name,
         data=data,
         front_m=front_loop,
-        max_speed_kmh=r.number("max_speed_kmh", positive=True),
-        depart_s=r.number("depart_s", 0, minimum=0),
+        max_speed_kmh=r.number("max_speed_kmh", positive=True, maximum=MAX_SPEED_KMH),
+        depart_s=r.number("depart_s", 0, minimum=0, maximum=MAX_DURATION_S),
         faults=tuple(faults),
         eb_release_after_stop_s=r.optional_number("eb_release_after_stop_s", minimum=0),
         first_door_m=first_door,
@@ -533,14 +535,14 @@ def load_scenario(path: str | Path) -> Scenario:
         switch_throw_s=one_by_one["switch_throw_s"],
         speed_limits_kmh=speed_limits,
         gradients_permille=gradients,
-        max_ma_m=line.number("max_ma_m", positive=True),
+        max_ma_m=line.number("max_ma_m", positive=True, maximum=MAX_LINE_M),
         brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
-        safety_margin_m=atp.number("safety_margin_m", minimum=0),
-        report_timeout_s=atp.number("report_timeout_s", positive=True),
+        safety_margin_m=atp.number("safety_margin_m", minimum=0, maximum=MAX_LINE_M),
+        report_timeout_s=atp.number("report_timeout_s", positive=True, maximum=MAX_DURATION_S),
         tag_window_m=atp.number("tag_window_m", minimum=0),
         tacho_error=tacho_error,
-        planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True),
-        ato_margin_m=ato.number("margin_m", minimum=0),
+        planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True, maximum=MAX_PLANNING_DECEL_KMHPS),
+        ato_margin_m=ato.number("margin_m", minimum=0, maximum=MAX_LINE_M),
         trains=trains,
         zones=_zones(source, top, length_m, layout),
         platforms=tuple(platforms),

@@ -204,6 +204,13 @@ def test_a_curves_option_out_of_range_is_refused(tmp_path, argv, message, capsys
         ),
         ("cycle_s = 0.1", "cycle_s = 100", "cycle_s = 100 must be at most 1"),
         ("duration_s = 320", "duration_s = 1e9", "duration_s = 1000000000.0 must be at most 86400"),
+        ("max_ma_m = 1500", "max_ma_m = 1e300", "line.max_ma_m = 1e+300 must be at most 1000000"),
+        ("safety_margin_m = 20", "safety_margin_m = 1e300", "atp.safety_margin_m = 1e+300 must be at most 1000000"),
+        ("report_timeout_s = 2", "report_timeout_s = 1e300", "atp.report_timeout_s = 1e+300 must be at most 86400"),
+        ("planning_decel_kmhps = 1.5", "planning_decel_kmhps = 99", "ato.planning_decel_kmhps = 99 must be at most 18"),
+        ("margin_m = 30", "margin_m = 1e300", "ato.margin_m = 1e+300 must be at most 1000000"),
+        ("max_speed_kmh = 80", "max_speed_kmh = 1e300", "trains[0].max_speed_kmh = 1e+300 must be at most 600"),
+        ("depart_s = 20", "depart_s = 1e300", "trains[1].depart_s = 1e+300 must be at most 86400"),
         ("length_m = 15000", "length_m = 1e9", "line.length_m = 1000000000.0 must be at most 1000000"),
     ],
 )
