@@ -13,18 +13,26 @@ the preceding train's T2T reports, any protection zone and the line data:
   is not held, or is a switch not yet reported locked in the route's direction (seed
   001: the MA extends over a switch only once it has been turned); the route's end if
   none;
-- the preceding train: each report (its min safe rear and min speed when sent,
-  arriving after any delay, possibly out of order) bounds its present from below,
+- the preceding train's T2T reports, each defended as EN 50159 asks of a message
+  over an open channel: a report is *accepted* only if its safety code checks
+  (corruption; the code covers the sender's identity, so a report from another
+  train fails it: masquerade, insertion), its sequence number is above the last one
+  accepted (repetition, resequencing: a replayed or overtaken report is dropped) and
+  its time stamp is not ahead of the onboard clock by more than the largest clock
+  skew (a time stamp from the future is corrupt);
+- each accepted report (its min safe rear and min speed when sent, after any delay)
+  bounds the leader's present from below,
   since it never moves backward and never brakes harder than
   ``leader_max_deceleration_mps2`` (a train can stop faster than its guaranteed
   braking, so the follower must assume its *highest* deceleration). The train keeps
   the largest rear and the largest earliest stopping point
   ``rear + v^2 / (2 * leader_max_deceleration_mps2)`` reported so far (never lowered,
-  so a report overtaken by a newer one does no harm: no ageing is needed, an old
-  bound stays true). Its limit is that stopping point less the safety margin; in
-  brick-wall mode (absolute braking distance), or when no report has arrived for
-  longer than ``report_timeout_s`` (the link is presumed lost, and the leader may
-  have stopped dead), the rear less the margin;
+  so a late report does no harm to them: an old bound stays true). Its limit is
+  that stopping point less the safety margin; in brick-wall mode (absolute braking
+  distance), or when the freshest report accepted was sent longer than
+  ``report_timeout_s`` ago (by its time stamp, plus the clock skew: the link is
+  presumed lost, and the leader may have stopped dead; EN 50159 time-out), the
+  rear less the margin. A late report is accepted but restores no credit;
 - the end of authority (dMA) is the least of ``dLockedResource``, the leader's limit,
   the start of an active protection zone (set by the ATS), the end of line and the max
   safe front + MAX_MA; the target speed there (vMA) is 0.
@@ -59,9 +67,11 @@ class AuthorityParams(Generic[N, B]):
     safety_margin_m: N
     """Kept between the end of authority and the leader's stopping point (seed 001 Fig. 6)."""
     report_timeout_s: N
+    """The oldest the freshest report may be for the leader's stopping point to count (by its time stamp)."""
+    clock_skew_max_s: N
+    """The largest difference between the leader's clock and this train's (both synchronised to one source)."""
     brick_wall: B
     """Absolute braking distance: the leader's reported rear is the target, with no credit for its speed."""
-    cycle_s: N
 
 
 @dataclass(frozen=True)
@@ -72,8 +82,10 @@ class AuthorityState(Generic[N, B]):
     """The largest min safe rear reported."""
     best_stop_m: N
     """The largest earliest stopping point reported."""
-    since_report_s: N
-    """Time since the last report arrived."""
+    last_seq: N
+    """The sequence number of the last report accepted."""
+    freshest_sent_s: N
+    """The latest time stamp of a report accepted (the leader's clock)."""
 
 
 @dataclass(frozen=True)
@@ -85,8 +97,16 @@ class AuthorityInputs(Generic[N, B]):
     """The object controller reports the switch locked in a position."""
     switch_reversed: tuple[B, ...]
     """That position is reverse (else normal)."""
+    now_s: N
+    """The onboard clock."""
     report_delivered: B
-    """A T2T report from the preceding train arrives this cycle."""
+    """A T2T report arrives this cycle."""
+    report_intact: B
+    """Its safety code checks for the preceding train's identity (:mod:`atcs.model.t2t_message`)."""
+    report_seq: N
+    """Its sequence number."""
+    report_sent_s: N
+    """Its time stamp: when it was sent, by the leader's clock."""
     report_rear_m: N
     """Its min safe rear when it was sent."""
     report_speed_mps: N
@@ -104,6 +124,10 @@ class AuthorityOutputs(Generic[N, B]):
     """Command the switch to the route's direction."""
     d_request_m: N
     d_locked_m: N
+    report_accepted: B
+    """This cycle's report passed every check and updated the bounds."""
+    report_age_s: N
+    """How long ago, at most, the freshest report accepted was sent (its time stamp and the clock skew)."""
     leader_limit_m: N
     """The end of authority the preceding train allows."""
     eoa_m: N
@@ -131,23 +155,37 @@ def stopping_point_m(o: Ops, p: AuthorityParams, rear_m, speed_mps):
     return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
 
 
+def report_accepted(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs):
+    """This cycle's report is delivered, intact, in sequence and not from the future (module docstring)."""
+    in_sequence = o.or_(o.not_(s.leader_known), i.report_seq > s.last_seq)
+    not_from_future = i.report_sent_s <= i.now_s + p.clock_skew_max_s
+    return o.and_(i.report_delivered, i.report_intact, in_sequence, not_from_future)
+
+
 def leader_reports(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs) -> AuthorityState:
     """The bounds kept after this cycle's report (module docstring)."""
-    arrived = i.report_delivered
-    first = o.and_(arrived, o.not_(s.leader_known))
+    accepted = report_accepted(o, p, s, i)
+    first = o.and_(accepted, o.not_(s.leader_known))
     rear = o.ite(first, i.report_rear_m, o.max(s.best_rear_m, i.report_rear_m))
     stop = stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps)
+    sent = o.ite(first, i.report_sent_s, o.max(s.freshest_sent_s, i.report_sent_s))
     return AuthorityState(
-        leader_known=o.or_(s.leader_known, arrived),
-        best_rear_m=o.ite(arrived, rear, s.best_rear_m),
-        best_stop_m=o.ite(arrived, o.ite(first, stop, o.max(s.best_stop_m, stop)), s.best_stop_m),
-        since_report_s=o.ite(arrived, o.const(0), s.since_report_s + p.cycle_s),
+        leader_known=o.or_(s.leader_known, accepted),
+        best_rear_m=o.ite(accepted, rear, s.best_rear_m),
+        best_stop_m=o.ite(accepted, o.ite(first, stop, o.max(s.best_stop_m, stop)), s.best_stop_m),
+        last_seq=o.ite(accepted, i.report_seq, s.last_seq),
+        freshest_sent_s=o.ite(accepted, sent, s.freshest_sent_s),
     )
 
 
-def leader_limit_m(o: Ops, p: AuthorityParams, r: AuthorityState):
+def report_age_s(o: Ops, p: AuthorityParams, r: AuthorityState, now_s):
+    """The longest time since the freshest report accepted was sent: the clocks may differ by the skew."""
+    return now_s - r.freshest_sent_s + p.clock_skew_max_s
+
+
+def leader_limit_m(o: Ops, p: AuthorityParams, r: AuthorityState, now_s):
     """The end of authority the preceding train allows (FAR_M with no report yet)."""
-    certain_only = o.or_(p.brick_wall, r.since_report_s > p.report_timeout_s)
+    certain_only = o.or_(p.brick_wall, report_age_s(o, p, r, now_s) > p.report_timeout_s)
     limit = o.ite(certain_only, r.best_rear_m, r.best_stop_m) - p.safety_margin_m
     return o.ite(r.leader_known, limit, o.const(FAR_M))
 
@@ -156,7 +194,11 @@ def authority_init(o: Ops, p: AuthorityParams, s: AuthorityState):
     """No report from a preceding train yet."""
     zero = o.const(0)
     return o.and_(
-        o.not_(s.leader_known), o.eq(s.best_rear_m, zero), o.eq(s.best_stop_m, zero), o.eq(s.since_report_s, zero)
+        o.not_(s.leader_known),
+        o.eq(s.best_rear_m, zero),
+        o.eq(s.best_stop_m, zero),
+        o.eq(s.last_seq, zero),
+        o.eq(s.freshest_sent_s, zero),
     )
 
 
@@ -172,10 +214,12 @@ def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityIn
     switch_command = tuple(o.and_(i.held[r], o.not_(confirmed(o, p, i, r))) for r in resources)
     d_locked = locked_end_m(o, p, i)
     reports = leader_reports(o, p, s, i)
-    leader = leader_limit_m(o, p, reports)
+    leader = leader_limit_m(o, p, reports, i.now_s)
     zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))
     eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)
-    return reports, AuthorityOutputs(request, release, switch_command, d_request, d_locked, leader, eoa)
+    accepted = report_accepted(o, p, s, i)
+    age = report_age_s(o, p, reports, i.now_s)
+    return reports, AuthorityOutputs(request, release, switch_command, d_request, d_locked, accepted, age, leader, eoa)
 
 
 AUTHORITY = Node(
@@ -186,7 +230,7 @@ AUTHORITY = Node(
     outputs=AuthorityOutputs,
     init=authority_init,
     step=authority_step,
-    seed="001 §3.2-3.3 (Fig. 6, 8), 000 §2.2, 002 §4.2",
+    seed="001 §3.2-3.3 (Fig. 6, 8), 000 §2.2, 002 §4.2; EN 50159 defences",
     sizes={
         name: PROOF_ROUTE_RESOURCES
         for name in (

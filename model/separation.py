@@ -4,7 +4,9 @@ train's T2T reports), the follower's plant, the leader's motion and the report c
 seed 000 §2.2 and §2.5).
 
 Each report carries the leader's min safe rear and min speed when it was sent and
-arrives after any delay, possibly out of order, or never. The leader's true state
+arrives after any delay, possibly out of order, repeated, or never; a report whose
+safety code fails may say anything. The clocks and time stamps are any the
+environment chooses: relative braking's separation rests on no timing. The leader's true state
 is kept beside it, with a ghost the ATP never reads: ``leader_stop_m``, where the
 leader would stop at the earliest from its true state (the target of the proofs in
 relative-braking mode).
@@ -67,7 +69,11 @@ class TwoTrainInputs(ClosedLoopInputs[N, B]):
     switch_reversed: tuple[B, ...]
     zone_active: B
     zone_start_m: N
+    now_s: N
     report_delivered: B
+    report_intact: B
+    report_seq: N
+    report_sent_s: N
     report_rear_m: N
     report_speed_mps: N
     leader_distance_m: N
@@ -90,7 +96,11 @@ def follower_authority(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainI
         held=i.held,
         switch_locked=i.switch_locked,
         switch_reversed=i.switch_reversed,
+        now_s=i.now_s,
         report_delivered=i.report_delivered,
+        report_intact=i.report_intact,
+        report_seq=i.report_seq,
+        report_sent_s=i.report_sent_s,
         report_rear_m=i.report_rear_m,
         report_speed_mps=i.report_speed_mps,
         zone_active=i.zone_active,
@@ -110,7 +120,6 @@ def two_train_init(o: Ops, p: TwoTrainParams, s: TwoTrainState):
         s.best_rear_m <= s.leader_rear_m,
         s.best_stop_m <= s.leader_stop_m,
         s.best_rear_m <= s.best_stop_m,
-        o.eq(s.since_report_s, o.const(0)),
         s.front_m <= s.best_rear_m - p.safety_margin_m,
         s.front_m < s.leader_rear_m,
     )
@@ -130,7 +139,8 @@ def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInput
         leader_known=reports.leader_known,
         best_rear_m=reports.best_rear_m,
         best_stop_m=reports.best_stop_m,
-        since_report_s=reports.since_report_s,
+        last_seq=reports.last_seq,
+        freshest_sent_s=reports.freshest_sent_s,
         leader_rear_m=leader_rear,
         leader_speed_mps=i.leader_next_speed_mps,
         leader_stop_m=earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps),

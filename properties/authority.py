@@ -66,8 +66,14 @@ def _before_unconfirmed_switch(o, p, s, i, out, nxt):
     )
 
 
+def _age_s(o, p, r, i):
+    """How long ago, at most, the freshest report kept in ``r`` was sent: by the onboard clock, its time stamp and
+    the clock skew."""
+    return i.now_s - r.freshest_sent_s + p.clock_skew_max_s
+
+
 def _behind_leader(o, p, s, i, out, nxt):
-    stale = nxt.since_report_s > p.report_timeout_s
+    stale = _age_s(o, p, nxt, i) > p.report_timeout_s
     margin = p.safety_margin_m
     return o.implies(
         nxt.leader_known,
@@ -78,20 +84,35 @@ def _behind_leader(o, p, s, i, out, nxt):
     )
 
 
+def _intact(o, i):
+    """A report arrives and its safety code checks."""
+    return o.and_(i.report_delivered, i.report_intact)
+
+
+def _acceptable(o, p, s, i):
+    """A report arrives intact, numbered after the last one accepted (any number for the first) and stamped no
+    later than the onboard clock plus the skew."""
+    return o.and_(
+        _intact(o, i),
+        o.or_(o.not_(s.leader_known), i.report_seq > s.last_seq),
+        i.report_sent_s <= i.now_s + p.clock_skew_max_s,
+    )
+
+
 def _bounds_from_reports(o, p, s, i, out, nxt):
-    """Each bound kept is the previous one or the one this cycle's report gives, never more."""
+    """Each bound kept is the previous one or the one this cycle's intact report gives, never more."""
     d, v = p.leader_max_deceleration_mps2, i.report_speed_mps
-    kept = s.leader_known
+    kept, arrived = s.leader_known, _intact(o, i)
     return o.implies(
         nxt.leader_known,
         o.and_(
             o.or_(
                 o.and_(kept, nxt.best_rear_m <= s.best_rear_m),
-                o.and_(i.report_delivered, nxt.best_rear_m <= i.report_rear_m),
+                o.and_(arrived, nxt.best_rear_m <= i.report_rear_m),
             ),
             o.or_(
                 o.and_(kept, nxt.best_stop_m <= s.best_stop_m),
-                o.and_(i.report_delivered, o.const(2) * d * (nxt.best_stop_m - i.report_rear_m) <= v * v),
+                o.and_(arrived, o.const(2) * d * (nxt.best_stop_m - i.report_rear_m) <= v * v),
             ),
         ),
     )
@@ -125,7 +146,7 @@ def _bounds_never_lowered(o, p, s, i, out, nxt):
             s.leader_known, o.and_(nxt.leader_known, s.best_rear_m <= nxt.best_rear_m, s.best_stop_m <= nxt.best_stop_m)
         ),
         o.implies(
-            i.report_delivered,
+            _acceptable(o, p, s, i),
             o.and_(
                 nxt.leader_known,
                 i.report_rear_m <= nxt.best_rear_m,
@@ -135,16 +156,41 @@ def _bounds_never_lowered(o, p, s, i, out, nxt):
     )
 
 
-def _report_age(o, p, s, i, out, nxt):
+def _freshest_report(o, p, s, i, out, nxt):
+    acceptable = _acceptable(o, p, s, i)
     return o.and_(
-        o.implies(i.report_delivered, o.eq(nxt.since_report_s, o.const(0))),
-        o.implies(o.not_(i.report_delivered), o.eq(nxt.since_report_s, s.since_report_s + p.cycle_s)),
+        o.implies(
+            acceptable,
+            o.and_(
+                o.eq(nxt.last_seq, i.report_seq),
+                i.report_sent_s <= nxt.freshest_sent_s,
+                o.implies(s.leader_known, s.freshest_sent_s <= nxt.freshest_sent_s),
+                o.or_(o.eq(nxt.freshest_sent_s, i.report_sent_s), o.eq(nxt.freshest_sent_s, s.freshest_sent_s)),
+            ),
+        ),
+        o.eq(out.report_accepted, acceptable),
+        o.eq(out.report_age_s, _age_s(o, p, nxt, i)),
     )
 
 
 def _credit_while_fresh(o, p, s, i, out, nxt):
-    fresh = o.and_(nxt.leader_known, o.not_(p.brick_wall), nxt.since_report_s <= p.report_timeout_s)
+    fresh = o.and_(nxt.leader_known, o.not_(p.brick_wall), _age_s(o, p, nxt, i) <= p.report_timeout_s)
     return o.implies(fresh, o.eq(out.leader_limit_m, nxt.best_stop_m - p.safety_margin_m))
+
+
+def _nothing_kept_changes(o, s, nxt):
+    return o.and_(
+        o.eq(nxt.leader_known, s.leader_known),
+        o.eq(nxt.best_rear_m, s.best_rear_m),
+        o.eq(nxt.best_stop_m, s.best_stop_m),
+        o.eq(nxt.last_seq, s.last_seq),
+        o.eq(nxt.freshest_sent_s, s.freshest_sent_s),
+    )
+
+
+def _ignored_when(condition):
+    """The report is dropped whenever ``condition(o, p, s, i)`` holds: nothing the train keeps changes."""
+    return lambda o, p, s, i, out, nxt: o.implies(condition(o, p, s, i), _nothing_kept_changes(o, s, nxt))
 
 
 def _property(name, requirement, seed, text, holds, assumptions=(), lemmas=()):
@@ -198,7 +244,8 @@ PROPERTIES = (
         "001 §3.2 (Fig. 6), 000 §2.2",
         "Once the preceding train has reported, the end of authority plus the safety margin is behind the "
         "largest earliest stopping point reported, and behind the largest rear reported in brick-wall mode "
-        "or once no report has arrived for the timeout.",
+        "or once the freshest report accepted is older than the timeout (by its time stamp, the onboard clock "
+        "and the clock skew), however late it arrived.",
         _behind_leader,
         (LEADER_DATA,),
         ("authority.rear_bound_behind_stop_bound",),
@@ -215,7 +262,7 @@ PROPERTIES = (
         "authority.leader_bounds_from_reports",
         "AUT-06",
         "001 §3.2 (Fig. 6)",
-        "The leader's rear and earliest stopping point the train keeps are never more than a report gives: "
+        "The leader's rear and earliest stopping point the train keeps are never more than an intact report gives: "
         "the rear reported, and that rear plus the stopping distance from the speed reported at the "
         "leader's highest deceleration.",
         _bounds_from_reports,
@@ -234,25 +281,52 @@ PROPERTIES = (
         "authority.leader_bounds_never_lowered",
         "AUT-09",
         "001 §3.2 (Fig. 6)",
-        "Once a report has arrived the leader stays known and its kept rear and earliest stopping point are "
-        "never lowered; each is at least what this cycle's report gives.",
+        "Once a report has been accepted the leader stays known and its kept rear and earliest stopping point are "
+        "never lowered; each is at least what this cycle's acceptable report gives.",
         _bounds_never_lowered,
         (LEADER_DATA,),
     ),
     _property(
-        "authority.report_age",
+        "authority.freshest_report_kept",
         "AUT-10",
-        "001 §3.2",
-        "The time since the last report is 0 in a cycle a report arrives and one cycle more in any other.",
-        _report_age,
+        "001 §3.2; EN 50159 (sequence number, time stamp)",
+        "An acceptable report (intact, numbered after the last one accepted, stamped no later than the onboard "
+        "clock plus the skew) is accepted: its number is kept as the last one, and the time stamp kept is its own "
+        "or the one kept before, never earlier than either; the age reported is the onboard clock less that time "
+        "stamp plus the skew.",
+        _freshest_report,
     ),
     _property(
         "authority.stop_credit_while_fresh",
         "AUT-11",
         "001 §3.2 (Fig. 6), 000 §2.2",
-        "In relative braking, while the last report is no older than the timeout, the leader's limit is its "
-        "largest earliest stopping point less the safety margin.",
+        "In relative braking, while the freshest report accepted is no older than the timeout (by its time stamp, "
+        "the onboard clock and the skew), the leader's limit is its largest earliest stopping point less the "
+        "safety margin.",
         _credit_while_fresh,
+    ),
+    _property(
+        "authority.corrupted_report_ignored",
+        "AUT-12",
+        "EN 50159 (safety code, source identifier)",
+        "A report whose safety code fails (corrupted, or sent by a train other than the leader: the code covers "
+        "the sender's identity) changes nothing the train keeps, whatever it says.",
+        _ignored_when(lambda o, p, s, i: o.not_(i.report_intact)),
+    ),
+    _property(
+        "authority.replayed_report_ignored",
+        "AUT-13",
+        "EN 50159 (sequence number)",
+        "Once a report has been accepted, a report numbered at most the last one accepted (replayed, repeated or "
+        "overtaken by a newer one) changes nothing the train keeps.",
+        _ignored_when(lambda o, p, s, i: o.and_(s.leader_known, i.report_seq <= s.last_seq)),
+    ),
+    _property(
+        "authority.future_report_ignored",
+        "AUT-14",
+        "EN 50159 (time stamp)",
+        "A report stamped later than the onboard clock plus the clock skew changes nothing the train keeps.",
+        _ignored_when(lambda o, p, s, i: i.report_sent_s > i.now_s + p.clock_skew_max_s),
     ),
 )
 

@@ -78,9 +78,10 @@ LEADER = Assumption(
 
 REPORT_REAR = Assumption(
     "report_rear",
-    "a report describes a past state of the leader: its min safe rear is at most the leader's current rear "
-    "(reports may arrive after any delay, out of order, or not at all)",
-    lambda o, p, s, i: o.implies(i.report_delivered, i.report_rear_m <= s.leader_rear_m),
+    "an intact report describes a past state of the leader: its min safe rear is at most the leader's current rear "
+    "(reports may arrive after any delay, out of order, repeated, or not at all; one whose safety code fails may "
+    "say anything)",
+    lambda o, p, s, i: o.implies(o.and_(i.report_delivered, i.report_intact), i.report_rear_m <= s.leader_rear_m),
 )
 
 
@@ -113,10 +114,10 @@ LEADER_BRAKING = Assumption(
 
 REPORT_STOP = Assumption(
     "report_stop",
-    "a report's min speed is >= 0 and the earliest stopping point it gives is at most the leader's current one "
-    "(true of a past state: that point never moves back, SEP-04)",
+    "an intact report's min speed is >= 0 and the earliest stopping point it gives is at most the leader's current "
+    "one (true of a past state: that point never moves back, SEP-04)",
     lambda o, p, s, i: o.implies(
-        i.report_delivered,
+        o.and_(i.report_delivered, i.report_intact),
         o.and_(
             i.report_speed_mps >= o.const(0),
             earliest_stop_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m,

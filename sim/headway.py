@@ -309,7 +309,8 @@ def steady_state(p: TwoTrainParams, gap_m, speed_mps, front_m=Fraction(0)) -> Tw
         leader_known=True,
         best_rear_m=rear,
         best_stop_m=stopping_point_m(EXACT, p, rear, speed_mps),
-        since_report_s=Fraction(0),
+        last_seq=Fraction(1),
+        freshest_sent_s=Fraction(0),
         leader_rear_m=rear,
         leader_speed_mps=speed_mps,
         leader_stop_m=earliest_stop_m(EXACT, p, rear, speed_mps),
@@ -375,21 +376,25 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
         reports = leader_reports(
             o,
             p,
-            AuthorityState(False, zero, zero, zero),
+            AuthorityState(False, zero, zero, zero, zero),
             AuthorityInputs(
                 front_max_m=front_max,
                 rear_min_m=-p.train_length_m,
                 held=(),
                 switch_locked=(),
                 switch_reversed=(),
+                now_s=zero,
                 report_delivered=True,
+                report_intact=True,
+                report_seq=Fraction(1),
+                report_sent_s=zero,
                 report_rear_m=rear_min,
                 report_speed_mps=report_speed,
                 zone_active=False,
                 zone_start_m=zero,
             ),
         )
-        limit = leader_limit_m(o, p, reports)
+        limit = leader_limit_m(o, p, reports, zero)
         return min(limit, rear_min - locked_behind_m) if route_locked else limit
 
     def curves(gap, route_locked):

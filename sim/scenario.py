@@ -55,6 +55,9 @@ FAULTS = {
     "tacho_slide": "the tachometer reads `factor` times the distance run while braking (e.g. 0.5: a slide)",
     "t2t_loss": "the train's T2T reports are lost",
     "t2t_delay": "the train's T2T reports arrive `delay_s` late",
+    "t2t_reorder": "every other T2T report of the train is held back two cycles, so it arrives after the next one",
+    "t2t_replay": "the train's T2T reports are replaced by a replay of the last one delivered before the fault",
+    "t2t_corrupt": "one bit of each T2T report of the train is flipped on the way (its rear's 2^24 cm bit)",
     "stuck_door": "an obstacle holds the doors open",
 }
 """Fault kinds a train may carry for a time window, and what each does."""
@@ -173,6 +176,8 @@ class Scenario:
     platforms: tuple[Platform, ...] = field(default=())
     national: NationalData = field(default_factory=subset026_national)
     ato_speed_margin_kmh: Fraction = Fraction(0)
+    clock_skew_s: Fraction = Fraction(0)
+    """The largest difference between two trains' clocks the ATP allows for when it ages a T2T report."""
     """The ATO aims this far under the line's limits (seed 002 §4.2: 25 km/h under a 30 km/h limit)."""
     restrictions: tuple[TimedRestriction, ...] = ()
     stations: tuple[Station, ...] = ()
@@ -496,7 +501,16 @@ def load_scenario(path: str | Path) -> Scenario:
         source,
         document["atp"],
         "atp",
-        ("mode", "safety_margin_m", "report_timeout_s", "tag_window_m", "tacho_error", "national", "stop_tolerance_m"),
+        (
+            "mode",
+            "safety_margin_m",
+            "report_timeout_s",
+            "clock_skew_s",
+            "tag_window_m",
+            "tacho_error",
+            "national",
+            "stop_tolerance_m",
+        ),
     )
     ato = _Reader(
         source, document["ato"], "ato", ("planning_decel_kmhps", "margin_m", "speed_margin_kmh", "reference_profile")
@@ -505,6 +519,10 @@ def load_scenario(path: str | Path) -> Scenario:
     if not isinstance(reference, bool):
         ato.fail("reference_profile", "must be true or false")
     tacho_error = atp.number("tacho_error", minimum=0)
+    report_timeout_s = atp.number("report_timeout_s", positive=True, maximum=MAX_DURATION_S)
+    clock_skew_s = atp.number("clock_skew_s", 0, minimum=0)
+    if clock_skew_s >= report_timeout_s:
+        atp.fail("clock_skew_s", f"must be below report_timeout_s ({report_timeout_s}): every report would be stale")
     _tags_apart(line, tags, atp.number("tag_window_m", minimum=0))
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
@@ -538,7 +556,8 @@ def load_scenario(path: str | Path) -> Scenario:
         max_ma_m=line.number("max_ma_m", positive=True, maximum=MAX_LINE_M),
         brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
         safety_margin_m=atp.number("safety_margin_m", minimum=0, maximum=MAX_LINE_M),
-        report_timeout_s=atp.number("report_timeout_s", positive=True, maximum=MAX_DURATION_S),
+        report_timeout_s=report_timeout_s,
+        clock_skew_s=clock_skew_s,
         tag_window_m=atp.number("tag_window_m", minimum=0),
         tacho_error=tacho_error,
         planning_decel_kmhps=ato.number("planning_decel_kmhps", positive=True, maximum=MAX_PLANNING_DECEL_KMHPS),

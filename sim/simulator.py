@@ -51,6 +51,7 @@ from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
 from atcs.model.restrictions import SpeedRestrictions, as_float
 from atcs.model.supervision import SupervisionParams, SupervisionState, supervise
+from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report
 from atcs.model.train_data import preset_data
 from atcs.sim.ato_driver import ato_commands
 from atcs.sim.monitor import Monitor, check_step, registered_properties
@@ -65,6 +66,9 @@ FLOAT_SLACK_M = 1e-6
 SENSOR_FAULTS = ("missed_tag", "spurious_tag", "tacho_drift", "tacho_slide")
 """Faults that may take the sensors outside their stated errors: the position interval is not checked to contain
 the true front on a train that has one (the position node's fault detection is what such a run tests)."""
+CORRUPTED_BIT = (1 << (8 * REPORT_BYTES - 1 - 95)).to_bytes(REPORT_BYTES, "big")
+"""The bit a ``t2t_corrupt`` fault flips: D_REAR's 2^24 cm bit, so a report read without its safety code would put
+the leader 167.77 km further on."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
 AUTHORITY_PROPERTIES = registered_properties(AUTHORITY)
 RESOURCE_PROPERTIES = registered_properties(RESOURCES)
@@ -131,6 +135,11 @@ class Simulation:
     def time_s(self) -> float:
         return self.step_count * self.dt
 
+    @property
+    def clock_s(self) -> Fraction:
+        """Every train's onboard clock, exact (the trains' clocks agree)."""
+        return self.step_count * self.scenario.cycle_s
+
     def _train(self, spec: TrainSpec) -> TrainRun:
         s, d = self.scenario, spec.data
         starts, ends = self.resource_starts
@@ -179,8 +188,8 @@ class Simulation:
             leader_max_deceleration_mps2=max(t.data.emergency_decelerations_mps2[0] for t in s.trains) + 1,
             safety_margin_m=s.safety_margin_m,
             report_timeout_s=s.report_timeout_s,
+            clock_skew_max_s=s.clock_skew_s,
             brick_wall=s.brick_wall,
-            cycle_s=s.cycle_s,
         )
         restrictions = SpeedRestrictions(pisl, ptsl, length)
         stations = [j for j, st in enumerate(self.stops) if st.stop_m > spec.front_m]
@@ -188,7 +197,7 @@ class Simulation:
             spec=spec,
             plant=float_record(plant),
             position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0)),
-            authority=AuthorityState(False, *(Fraction(0),) * 3),
+            authority=AuthorityState(False, *(Fraction(0),) * 4),
             authority_params=authority,
             supervision=SupervisionState(eb_latched=True, sb_latched=False),
             front_m=float(spec.front_m),
@@ -295,16 +304,27 @@ class Simulation:
                 if changed:
                     train.mrsp = as_float(train.restrictions.mrsp())
 
-    def _send_report(self, train: TrainRun, report, t: float) -> None:
-        """The T2T report, delivered to the follower in the next cycle (later under ``t2t_delay``, never under
-        ``t2t_loss``)."""
-        delay = train.spec.fault("t2t_delay", t)
-        if report is not None and train.spec.fault("t2t_loss", t) is None:
-            late = round(float(delay.value) / self.dt) if delay is not None else 0
-            train.outbox.append((self.step_count + 1 + late, report))
+    def _send_report(self, train: TrainRun, report: bytes | None, t: float) -> None:
+        """The T2T report, delivered to the follower in the next cycle, unless a fault of the channel
+        (:data:`~atcs.sim.scenario.FAULTS`) loses, delays, reorders, replays or corrupts it. A follower's node takes
+        one report a cycle: of those due together, the last sent."""
+        fault = train.spec.fault
+        if report is not None and fault("t2t_loss", t) is None and fault("t2t_replay", t) is None:
+            late = 1
+            if (delay := fault("t2t_delay", t)) is not None:
+                late += round(float(delay.value) / self.dt)
+            if fault("t2t_reorder", t) is not None and train.reports_sent % 2 == 0:
+                late += 2
+            if fault("t2t_corrupt", t) is not None:
+                report = bytes(b ^ m for b, m in zip(report, CORRUPTED_BIT, strict=True))
+            train.outbox.append((self.step_count + late, report))
         due = [r for step, r in train.outbox if step <= self.step_count + 1]
         train.outbox = [(step, r) for step, r in train.outbox if step > self.step_count + 1]
-        train.report = due[-1] if due else None
+        if fault("t2t_replay", t) is not None:
+            train.report = train.replayed
+        else:
+            train.report = due[-1] if due else None
+            train.replayed = train.report or train.replayed
 
     def _manage(self, sends: set[int], *, deliver: Callable[[int], bool] = lambda r: True) -> None:
         """The resource manager's step (:data:`~atcs.model.resources.RESOURCES`, its properties checked), one
@@ -365,7 +385,20 @@ class Simulation:
         commands, curves = self._supervise(train, pos, eoa_m, t)
         target, traction = self._drive(train, pos, eoa_m, curves, commands, t)
         self._record(train, pos, eoa_m, curves, target, commands, traction, t)
-        report = (pos.rear_min_m, max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)) if pos.position_valid else None
+        delivered = leader is not None and leader.report is not None
+        train.last["leader_report"] = ("dropped", "accepted")[auth.report_accepted] if delivered else "none"
+        report = None
+        if pos.position_valid:
+            train.reports_sent += 1
+            report = encode_report(
+                T2TReport(
+                    sender_id=k + 1,
+                    seq=train.reports_sent,
+                    sent_s=self.clock_s,
+                    rear_m=Fraction(pos.rear_min_m),
+                    speed_mps=Fraction(max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)),
+                )
+            )
         count = self.resources_per_lap
         sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
@@ -397,9 +430,10 @@ class Simulation:
         rounding of a stopping point would break the authority properties by an ulp): returns the node's outputs
         and the window's first resource."""
         zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
-        report = leader.report if leader is not None else None
-        if report is not None and leader_ahead_m:
-            report = (report[0] + leader_ahead_m, report[1])
+        received = None
+        if leader is not None and leader.report is not None:
+            received = decode_report(leader.report, expected_sender_id=self.trains.index(leader) + 1)
+        report = received.report if received is not None else T2TReport(0, 0, Fraction(0), Fraction(0), Fraction(0))
         lo, hi = self._window(train, pos, k)
         window = dataclasses.replace(
             train.authority_params, **{name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS}
@@ -415,9 +449,13 @@ class Simulation:
                 held=tuple(held[i % count] for i in range(lo, hi)),
                 switch_locked=tuple(i % count not in self.switch_thrown_at for i in range(lo, hi)),
                 switch_reversed=tuple(self.switch_reversed[i % count] for i in range(lo, hi)),
-                report_delivered=report is not None,
-                report_rear_m=Fraction(report[0] if report else 0),
-                report_speed_mps=Fraction(report[1] if report else 0),
+                now_s=self.clock_s,
+                report_delivered=received is not None,
+                report_intact=received is not None and received.intact,
+                report_seq=Fraction(report.seq),
+                report_sent_s=report.sent_s,
+                report_rear_m=report.rear_m + Fraction(leader_ahead_m),
+                report_speed_mps=report.speed_mps,
                 zone_active=bool(zones),
                 zone_start_m=Fraction(min(zones) if zones else 0),
             ),

@@ -82,11 +82,15 @@ class TrainRun:
     references: list[ReferenceProfile] = field(default_factory=list)
     """Every profile computed so far, one per stretch."""
     outbox: list = field(default_factory=list)
-    """T2T reports sent and not yet delivered: (step delivered, report)."""
+    """T2T reports sent and not yet delivered: (step delivered, the report's bytes)."""
+    reports_sent: int = 0
+    """The sequence number of the train's last T2T report."""
     last_tag: int | None = None
     """The tag the front passed in the last cycle (read in this one)."""
-    report: tuple[float, float] | None = None
-    """(min safe rear, min speed) of the train's report delivered this cycle (None: none delivered)."""
+    report: bytes | None = None
+    """The bytes of the train's report delivered this cycle (None: none delivered)."""
+    replayed: bytes | None = None
+    """The report a ``t2t_replay`` fault repeats: the last one delivered before it began."""
     started: bool = False
     """The driver has released the power-up emergency brake (at departure)."""
     stopped_s: float | None = None

@@ -80,13 +80,35 @@ MUTANTS = {
         "o.max(s.best_rear_m, i.report_rear_m)",
         "o.min(s.best_rear_m, i.report_rear_m)",
     ),
-    # the report age never grows: the link-loss fallback is never taken
-    "authority.report_age": (authority.leader_reports, "s.since_report_s + p.cycle_s", "s.since_report_s"),
+    # the latest report's time stamp kept, not the latest time stamp: a late report makes the leader look fresh
+    "authority.freshest_report_kept": (
+        authority.leader_reports,
+        "o.max(s.freshest_sent_s, i.report_sent_s)",
+        "i.report_sent_s",
+    ),
     # a report exactly as old as the timeout treated as lost
     "authority.stop_credit_while_fresh": (
         authority.leader_limit_m,
-        "r.since_report_s > p.report_timeout_s",
-        "r.since_report_s >= p.report_timeout_s",
+        "report_age_s(o, p, r, now_s) > p.report_timeout_s",
+        "report_age_s(o, p, r, now_s) >= p.report_timeout_s",
+    ),
+    # the safety code not checked: a corrupted report, or another train's, is trusted
+    "authority.corrupted_report_ignored": (
+        authority.report_accepted,
+        "o.and_(i.report_delivered, i.report_intact, in_sequence, not_from_future)",
+        "o.and_(i.report_delivered, in_sequence, not_from_future)",
+    ),
+    # a report numbered as the last one accepted taken again: a replay is accepted
+    "authority.replayed_report_ignored": (
+        authority.report_accepted,
+        "i.report_seq > s.last_seq",
+        "i.report_seq >= s.last_seq",
+    ),
+    # the clock skew counted twice over: a report stamped in the future is accepted
+    "authority.future_report_ignored": (
+        authority.report_accepted,
+        "i.report_sent_s <= i.now_s + p.clock_skew_max_s",
+        "i.report_sent_s <= i.now_s + p.clock_skew_max_s + p.clock_skew_max_s",
     ),
     # a resource ending exactly at the min safe rear kept
     "resources.release_when_behind_rear": (
@@ -138,8 +160,8 @@ def _params(**changes) -> AuthorityParams:
         leader_max_deceleration_mps2=Fraction(2),
         safety_margin_m=Fraction(20),
         report_timeout_s=Fraction(2),
+        clock_skew_max_s=Fraction(1, 10),
         brick_wall=False,
-        cycle_s=Fraction(1, 10),
     )
     return AuthorityParams(**{**base, **changes})
 
@@ -151,7 +173,11 @@ def _inputs(**changes) -> AuthorityInputs:
         held=(True, True, True, True),
         switch_locked=(False, True, False, False),
         switch_reversed=(False, True, False, False),
+        now_s=Fraction(100),
         report_delivered=True,
+        report_intact=True,
+        report_seq=Fraction(1000),
+        report_sent_s=Fraction(999, 10),
         report_rear_m=Fraction(1400),
         report_speed_mps=Fraction(20),
         zone_active=False,
@@ -161,8 +187,20 @@ def _inputs(**changes) -> AuthorityInputs:
 
 
 NO_REPORT = AuthorityState(
-    leader_known=False, best_rear_m=Fraction(0), best_stop_m=Fraction(0), since_report_s=Fraction(0)
+    leader_known=False,
+    best_rear_m=Fraction(0),
+    best_stop_m=Fraction(0),
+    last_seq=Fraction(0),
+    freshest_sent_s=Fraction(0),
 )
+KNOWN = AuthorityState(
+    leader_known=True,
+    best_rear_m=Fraction(1400),
+    best_stop_m=Fraction(1500),
+    last_seq=Fraction(990),
+    freshest_sent_s=Fraction(98),
+)
+"""The leader known from report 990, sent 2 s before the example's clock (100 s)."""
 
 
 def _eoa(params=None, inputs=None, state=NO_REPORT):
@@ -177,19 +215,37 @@ class TestWorkedExample:
 
     def test_brick_wall_and_stale_report_stop_at_the_reported_rear(self):
         assert _eoa(_params(brick_wall=True)).eoa_m == 1380
-        known = AuthorityState(
-            leader_known=True, best_rear_m=Fraction(1400), best_stop_m=Fraction(1500), since_report_s=Fraction(2)
-        )
-        assert _eoa(inputs=_inputs(report_delivered=False), state=known).eoa_m == 1380  # 2.1 s without a report
-        fresh = dataclasses.replace(known, since_report_s=Fraction(1))
+        # the freshest report sent 2 s ago, plus 0.1 s of clock skew: older than the 2 s timeout
+        assert _eoa(inputs=_inputs(report_delivered=False), state=KNOWN).eoa_m == 1380
+        fresh = dataclasses.replace(KNOWN, freshest_sent_s=Fraction(99))
         assert _eoa(inputs=_inputs(report_delivered=False), state=fresh).eoa_m == 1480
 
-    def test_the_best_bounds_are_kept_against_a_late_report(self):
-        known = AuthorityState(
-            leader_known=True, best_rear_m=Fraction(1450), best_stop_m=Fraction(1550), since_report_s=Fraction(0)
-        )
-        state, out = AUTHORITY.step(EXACT, _params(), known, _inputs())  # an older report: rear 1400, stop 1500
+    def test_a_late_report_is_accepted_but_restores_no_credit(self):
+        late = _inputs(report_sent_s=Fraction(95), report_rear_m=Fraction(1450), report_speed_mps=Fraction(0))
+        state, out = AUTHORITY.step(EXACT, _params(), KNOWN, late)
+        assert out.report_accepted and (state.best_rear_m, state.last_seq) == (1450, 1000)
+        assert (out.report_age_s, out.eoa_m) == (Fraction(21, 10), 1430)  # the rear bound, less the margin
+
+    def test_the_best_bounds_are_kept_against_an_older_report(self):
+        ahead = dataclasses.replace(KNOWN, best_rear_m=Fraction(1450), best_stop_m=Fraction(1550))
+        state, out = AUTHORITY.step(EXACT, _params(), ahead, _inputs())  # rear 1400, stop 1500
         assert (state.best_rear_m, state.best_stop_m, out.eoa_m) == (1450, 1550, 1530)
+
+    @pytest.mark.parametrize(
+        "report",
+        [
+            {"report_intact": False},  # corrupted, or sent by another train
+            {"report_seq": Fraction(990)},  # replayed
+            {"report_seq": Fraction(989)},  # overtaken by a newer one
+            {"report_sent_s": Fraction(1003, 10)},  # stamped 0.3 s ahead of the clock: skew is 0.1 s
+        ],
+        ids=["corrupted", "replayed", "reordered", "from_the_future"],
+    )
+    def test_a_report_failing_a_check_is_dropped(self, report):
+        dangerous = _inputs(report_rear_m=Fraction(5000), report_speed_mps=Fraction(80), **report)
+        state, out = AUTHORITY.step(EXACT, _params(), KNOWN, dangerous)
+        assert state == KNOWN and not out.report_accepted
+        assert out.eoa_m == 1380  # no fresh report: the kept rear less the margin
 
     def test_a_switch_not_locked_in_the_routes_direction_limits_the_ma(self):
         out = _eoa(inputs=_inputs(switch_reversed=(False, False, False, False)))

@@ -215,6 +215,7 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
             "safety_margin_m": Fraction(20),
             "leader_max_deceleration_mps2": d_max,
             "report_timeout_s": Fraction(2),
+            "clock_skew_max_s": Fraction(1, 10),
             "brick_wall": mode == "bw",
             # a plain line: two track resources, both held; MAX_MA beyond the line
             "resource_start_m": (Fraction(0), Fraction(5000)),
@@ -237,7 +238,8 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
         leader_known=True,
         best_rear_m=rear,
         best_stop_m=stop,
-        since_report_s=Fraction(0),
+        last_seq=Fraction(0),
+        freshest_sent_s=Fraction(0),
         leader_rear_m=rear,
         leader_speed_mps=leader_v,
         leader_stop_m=stop,
@@ -257,7 +259,11 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
         accel = -d_max if k >= brake_at else Fraction(0)
         leader_next, leader_distance = _leader_motion(s.leader_speed_mps, accel, dt)
         delivered = noise.random() < 0.3
-        sent_rear, sent_speed = history[-1 - min(noise.randint(0, 15), len(history) - 1)]  # late, out of order
+        sent = len(history) - 1 - min(noise.randint(0, 15), len(history) - 1)  # late, out of order, repeated
+        sent_rear, sent_speed = history[sent]
+        intact = noise.random() < 0.8
+        if not intact:  # corrupted on the way: it may say anything
+            sent_rear, sent_speed = sent_rear + noise.randint(0, 5000), Fraction(noise.randint(0, 100))
         error_m = Fraction(noise.randint(-50, 50), 10)
         error_mps = params.v_ura_mps * Fraction(noise.randint(-10, 10), 10)
         inputs = TwoTrainInputs(
@@ -269,7 +275,11 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
             distance_m=Fraction(0),
             leader_distance_m=leader_distance,
             leader_next_speed_mps=leader_next,
+            now_s=k * dt,
             report_delivered=delivered,
+            report_intact=intact,
+            report_seq=Fraction(sent),
+            report_sent_s=sent * dt,
             report_rear_m=sent_rear,
             report_speed_mps=sent_speed,
             held=(True, True),

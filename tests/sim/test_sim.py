@@ -513,7 +513,42 @@ class TestFaults:
             assert min(ma_m) > 200  # the same run with the reports: the MA stays long
 
     def test_delayed_reports_are_still_safe(self, tmp_path):
-        sim, _records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_delay", delay_s = 1, from_s = 0 }]')
+        sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_delay", delay_s = 1, from_s = 0 }]')
+        assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
+        assert min(r[1]["eoa_m"] - r[1]["front_m"] for r in records[300:600]) > 200  # 1.1 s old: still fresh
+
+    @pytest.mark.parametrize(
+        "fault",
+        ['{ kind = "t2t_corrupt", from_s = 30, until_s = 60 }', '{ kind = "t2t_replay", from_s = 30, until_s = 60 }'],
+        ids=["corrupted", "replayed"],
+    )
+    def test_corrupted_or_replayed_reports_are_dropped(self, tmp_path, fault):
+        """A corrupted report (its rear 167 km on, were it read without its safety code) and a replayed one are
+        dropped: the MA ends behind the leader's last good report, as when the reports are lost."""
+        sim, records = _fault_run(tmp_path, leader=f"faults = [{fault}]", duration_s=65)
+        window = records[301:600]
+        assert {r[1]["leader_report"] for r in window} == {"dropped"}
+        assert min(r[1]["eoa_m"] - r[1]["front_m"] for r in window) < 100 and sim.trains[1].stats.min_gap_m > 0
+        assert records[550][1]["speed_kmh"] < records[300][1]["speed_kmh"] / 2
+        assert records[-1][1]["leader_report"] == "accepted"  # once the fault has cleared
+
+    @pytest.mark.parametrize("fault", ['faults = [{ kind = "t2t_delay", delay_s = 5, from_s = 30 }]', ""])
+    def test_stale_reports_give_no_credit(self, tmp_path, fault):
+        """Reports 5.1 s old are accepted, but older than the 2 s timeout: the MA ends the margin behind the
+        leader's rear as it was 5.1 s before (brick wall), where the fresh reports' MA reaches past it."""
+        sim, records = _fault_run(tmp_path, leader=fault)
+        length_m = float(sim.trains[0].spec.data.train_length_m)
+        rear_m = [r[0]["front_m"] - length_m for r in records]
+        late = [k for k in range(360, 600) if records[k][1]["eoa_m"] > rear_m[k - 51] - 20]
+        assert (late == []) == bool(fault)
+        assert {r[1]["leader_report"] for r in records[360:600]} == {"accepted"}
+        assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
+
+    def test_reordered_reports_are_dropped_and_the_ma_stays_long(self, tmp_path):
+        sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_reorder", from_s = 30, until_s = 60 }]')
+        seen = [r[1]["leader_report"] for r in records[310:600]]
+        assert seen.count("dropped") == seen.count("accepted") == len(seen) // 2  # every overtaken report
+        assert min(r[1]["eoa_m"] - r[1]["front_m"] for r in records[300:600]) > 200
         assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
 
     def test_a_manager_outage_grants_nothing_and_the_mas_stop_growing(self, tmp_path):
