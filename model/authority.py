@@ -13,26 +13,26 @@ the preceding train's T2T reports, any protection zone and the line data:
   is not held, or is a switch not yet reported locked in the route's direction (seed
   001: the MA extends over a switch only once it has been turned); the route's end if
   none;
-- the preceding train's T2T reports, each defended as EN 50159 asks of a message
-  over an open channel: a report is *accepted* only if its safety code checks
-  (corruption; the code covers the sender's identity, so a report from another
-  train fails it: masquerade, insertion), its sequence number is above the last one
-  accepted (repetition, resequencing: a replayed or overtaken report is dropped) and
-  its time stamp is not ahead of the onboard clock by more than the largest clock
-  skew (a time stamp from the future is corrupt);
-- each accepted report (its min safe rear and min speed when sent, after any delay)
-  bounds the leader's present from below,
-  since it never moves backward and never brakes harder than
-  ``leader_max_deceleration_mps2`` (a train can stop faster than its guaranteed
-  braking, so the follower must assume its *highest* deceleration). The train keeps
-  the largest rear and the largest earliest stopping point
-  ``rear + v^2 / (2 * leader_max_deceleration_mps2)`` reported so far (never lowered,
-  so a late report does no harm to them: an old bound stays true). Its limit is
-  that stopping point less the safety margin; in brick-wall mode (absolute braking
-  distance), or when the freshest report accepted was sent longer than
-  ``report_timeout_s`` ago (by its time stamp, plus the clock skew: the link is
-  presumed lost, and the leader may have stopped dead; EN 50159 time-out), the
-  rear less the margin. A late report is accepted but restores no credit;
+- the preceding train's T2T reports, defended as EN 50159 asks of a message over an
+  open channel. A report is *usable* only if its safety code checks (corruption; the
+  code covers the sender's identity, so a report from another train fails it:
+  masquerade, insertion). A usable report (its min safe rear and min speed when
+  sent, after any delay) bounds the leader's present from below, since it never
+  moves backward and never brakes harder than ``leader_max_deceleration_mps2`` (a
+  train can stop faster than its guaranteed braking, so the follower must assume
+  its *highest* deceleration): the train keeps the largest rear and the largest
+  earliest stopping point ``rear + v^2 / (2 * leader_max_deceleration_mps2)``
+  reported (never lowered, so an old, repeated or overtaken report does no harm to
+  them: an old bound stays true);
+- a usable report is *accepted* as a sign the link is alive only if its sequence
+  number is above the last one accepted (repetition, resequencing) and its time
+  stamp not ahead of the onboard clock by more than the largest clock skew; the
+  train keeps the last number and the latest time stamp accepted. The leader's
+  limit is the stopping point less the safety margin; in brick-wall mode (absolute
+  braking distance), or once the freshest report accepted was sent longer than
+  ``report_timeout_s`` ago (by its time stamp, plus the clock skew: time-out; the
+  link is presumed lost, and the leader may have stopped dead), the rear less the
+  margin. A late report restores no credit, a replayed one none either;
 - the end of authority (dMA) is the least of ``dLockedResource``, the leader's limit,
   the start of an active protection zone (set by the ATS), the end of line and the max
   safe front + MAX_MA; the target speed there (vMA) is 0.
@@ -155,24 +155,32 @@ def stopping_point_m(o: Ops, p: AuthorityParams, rear_m, speed_mps):
     return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
 
 
+def report_usable(o: Ops, i: AuthorityInputs):
+    """This cycle's report is delivered and its safety code checks: what it says of the leader is true."""
+    return o.and_(i.report_delivered, i.report_intact)
+
+
 def report_accepted(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs):
-    """This cycle's report is delivered, intact, in sequence and not from the future (module docstring)."""
+    """This cycle's report is usable, numbered after the last one accepted and stamped no later than the onboard
+    clock plus the skew: a sign the link is alive (module docstring)."""
     in_sequence = o.or_(o.not_(s.leader_known), i.report_seq > s.last_seq)
     not_from_future = i.report_sent_s <= i.now_s + p.clock_skew_max_s
-    return o.and_(i.report_delivered, i.report_intact, in_sequence, not_from_future)
+    return o.and_(report_usable(o, i), in_sequence, not_from_future)
 
 
 def leader_reports(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs) -> AuthorityState:
-    """The bounds kept after this cycle's report (module docstring)."""
-    accepted = report_accepted(o, p, s, i)
-    first = o.and_(accepted, o.not_(s.leader_known))
+    """The bounds kept after this cycle's report (module docstring): a usable report's rear and stopping point
+    are merged in whatever its number and time stamp (an old bound stays true), an accepted one's number and time
+    stamp kept."""
+    usable, accepted = report_usable(o, i), report_accepted(o, p, s, i)
+    first = o.and_(o.not_(s.leader_known), usable)
     rear = o.ite(first, i.report_rear_m, o.max(s.best_rear_m, i.report_rear_m))
     stop = stopping_point_m(o, p, i.report_rear_m, i.report_speed_mps)
     sent = o.ite(first, i.report_sent_s, o.max(s.freshest_sent_s, i.report_sent_s))
     return AuthorityState(
-        leader_known=o.or_(s.leader_known, accepted),
-        best_rear_m=o.ite(accepted, rear, s.best_rear_m),
-        best_stop_m=o.ite(accepted, o.ite(first, stop, o.max(s.best_stop_m, stop)), s.best_stop_m),
+        leader_known=o.or_(s.leader_known, usable),
+        best_rear_m=o.ite(usable, rear, s.best_rear_m),
+        best_stop_m=o.ite(usable, o.ite(first, stop, o.max(s.best_stop_m, stop)), s.best_stop_m),
         last_seq=o.ite(accepted, i.report_seq, s.last_seq),
         freshest_sent_s=o.ite(accepted, sent, s.freshest_sent_s),
     )

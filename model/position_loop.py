@@ -48,6 +48,17 @@ class TrueMotion(Generic[N, B]):
     """The true speed."""
     last_distance_m: N
     """The true distance of the previous cycle."""
+    tacho_excess_m: N
+    """A ghost the ATP never reads: the tachometer's error beyond its stated bound
+    (:func:`tacho_excess_m`), summed since the position was last set at a tag."""
+
+
+def tacho_excess_m(o: Ops, p: PositionParams, distance_m, tacho_m):
+    """How far a cycle's tachometer reading ``tacho_m`` is off the true ``distance_m`` beyond the stated error
+    ``tacho_error * tacho_m``: 0 for a tachometer within its error; a drift, a slide or a standstill while moving
+    beyond it."""
+    allowed = p.tacho_error * tacho_m
+    return o.max(o.const(0), distance_m - tacho_m - allowed, tacho_m - distance_m - allowed)
 
 
 @dataclass(frozen=True)
@@ -78,7 +89,11 @@ def position_loop_init(o: Ops, p: PositionLoopParams, s: PositionLoopState):
     """Power-up at standstill, no position, EB applied."""
     zero = o.const(0)
     return o.and_(
-        position_init(o, p, s), supervision_init(o, p, s), o.eq(s.speed_mps, zero), o.eq(s.last_distance_m, zero)
+        position_init(o, p, s),
+        supervision_init(o, p, s),
+        o.eq(s.speed_mps, zero),
+        o.eq(s.last_distance_m, zero),
+        o.eq(s.tacho_excess_m, zero),
     )
 
 
@@ -98,6 +113,12 @@ def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: P
         front_m=s.front_m + i.distance_m,
         speed_mps=i.next_speed_mps,
         last_distance_m=i.distance_m,
+        # a tag read with the position valid is the tag reset (any fault invalidates it)
+        tacho_excess_m=o.ite(
+            o.and_(i.tag_read, position.position_valid),
+            o.const(0),
+            s.tacho_excess_m + tacho_excess_m(o, p, i.distance_m, i.tacho_m),
+        ),
     )
     return state, PositionLoopOutputs(**as_dict(position), **as_dict(commands))
 

@@ -84,7 +84,7 @@ def _behind_leader(o, p, s, i, out, nxt):
     )
 
 
-def _intact(o, i):
+def _usable(o, i):
     """A report arrives and its safety code checks."""
     return o.and_(i.report_delivered, i.report_intact)
 
@@ -93,7 +93,7 @@ def _acceptable(o, p, s, i):
     """A report arrives intact, numbered after the last one accepted (any number for the first) and stamped no
     later than the onboard clock plus the skew."""
     return o.and_(
-        _intact(o, i),
+        _usable(o, i),
         o.or_(o.not_(s.leader_known), i.report_seq > s.last_seq),
         i.report_sent_s <= i.now_s + p.clock_skew_max_s,
     )
@@ -102,7 +102,7 @@ def _acceptable(o, p, s, i):
 def _bounds_from_reports(o, p, s, i, out, nxt):
     """Each bound kept is the previous one or the one this cycle's intact report gives, never more."""
     d, v = p.leader_max_deceleration_mps2, i.report_speed_mps
-    kept, arrived = s.leader_known, _intact(o, i)
+    kept, arrived = s.leader_known, _usable(o, i)
     return o.implies(
         nxt.leader_known,
         o.and_(
@@ -146,7 +146,7 @@ def _bounds_never_lowered(o, p, s, i, out, nxt):
             s.leader_known, o.and_(nxt.leader_known, s.best_rear_m <= nxt.best_rear_m, s.best_stop_m <= nxt.best_stop_m)
         ),
         o.implies(
-            _acceptable(o, p, s, i),
+            _usable(o, i),
             o.and_(
                 nxt.leader_known,
                 i.report_rear_m <= nxt.best_rear_m,
@@ -191,6 +191,15 @@ def _nothing_kept_changes(o, s, nxt):
 def _ignored_when(condition):
     """The report is dropped whenever ``condition(o, p, s, i)`` holds: nothing the train keeps changes."""
     return lambda o, p, s, i, out, nxt: o.implies(condition(o, p, s, i), _nothing_kept_changes(o, s, nxt))
+
+
+def _not_fresh_when(condition):
+    """The report is no sign of life whenever ``condition(o, p, s, i)`` holds: the last number and the time stamp
+    kept do not change (its bounds may be merged: never lowered, AUT-09)."""
+    return lambda o, p, s, i, out, nxt: o.implies(
+        condition(o, p, s, i),
+        o.and_(o.eq(nxt.last_seq, s.last_seq), o.eq(nxt.freshest_sent_s, s.freshest_sent_s)),
+    )
 
 
 def _property(name, requirement, seed, text, holds, assumptions=(), lemmas=()):
@@ -262,7 +271,7 @@ PROPERTIES = (
         "authority.leader_bounds_from_reports",
         "AUT-06",
         "001 §3.2 (Fig. 6)",
-        "The leader's rear and earliest stopping point the train keeps are never more than an intact report gives: "
+        "The leader's rear and earliest stopping point the train keeps are never more than a usable report gives: "
         "the rear reported, and that rear plus the stopping distance from the speed reported at the "
         "leader's highest deceleration.",
         _bounds_from_reports,
@@ -281,8 +290,9 @@ PROPERTIES = (
         "authority.leader_bounds_never_lowered",
         "AUT-09",
         "001 §3.2 (Fig. 6)",
-        "Once a report has been accepted the leader stays known and its kept rear and earliest stopping point are "
-        "never lowered; each is at least what this cycle's acceptable report gives.",
+        "Once a report has been usable (delivered, its safety code checked) the leader stays known and its kept "
+        "rear and earliest stopping point are never lowered; each is at least what this cycle's usable report "
+        "gives, however old, repeated or out of order.",
         _bounds_never_lowered,
         (LEADER_DATA,),
     ),
@@ -307,26 +317,28 @@ PROPERTIES = (
     ),
     _property(
         "authority.corrupted_report_ignored",
-        "AUT-12",
+        "AUT-14",
         "EN 50159 (safety code, source identifier)",
         "A report whose safety code fails (corrupted, or sent by a train other than the leader: the code covers "
         "the sender's identity) changes nothing the train keeps, whatever it says.",
         _ignored_when(lambda o, p, s, i: o.not_(i.report_intact)),
     ),
     _property(
-        "authority.replayed_report_ignored",
-        "AUT-13",
+        "authority.replayed_report_not_fresh",
+        "AUT-15",
         "EN 50159 (sequence number)",
-        "Once a report has been accepted, a report numbered at most the last one accepted (replayed, repeated or "
-        "overtaken by a newer one) changes nothing the train keeps.",
-        _ignored_when(lambda o, p, s, i: o.and_(s.leader_known, i.report_seq <= s.last_seq)),
+        "Once the leader is known, a report numbered at most the last one accepted (replayed, repeated or "
+        "overtaken by a newer one) renews nothing: the last number and the time stamp kept stay as they were, so "
+        "it cannot hold off the time-out.",
+        _not_fresh_when(lambda o, p, s, i: o.and_(s.leader_known, i.report_seq <= s.last_seq)),
     ),
     _property(
-        "authority.future_report_ignored",
-        "AUT-14",
+        "authority.future_report_not_fresh",
+        "AUT-16",
         "EN 50159 (time stamp)",
-        "A report stamped later than the onboard clock plus the clock skew changes nothing the train keeps.",
-        _ignored_when(lambda o, p, s, i: i.report_sent_s > i.now_s + p.clock_skew_max_s),
+        "A report stamped later than the onboard clock plus the clock skew renews nothing: the last number and "
+        "the time stamp kept stay as they were.",
+        _not_fresh_when(lambda o, p, s, i: i.report_sent_s > i.now_s + p.clock_skew_max_s),
     ),
 )
 

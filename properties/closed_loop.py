@@ -179,8 +179,9 @@ def speed_bounded_brake_cycle_cases(n_be: int):
     """``Property.certificate_cases``: :func:`brake_cycle_cases`, each case at a speed within
     :data:`CERTIFICATE_SPEED_BOUND_MPS`; the faster states fall in the rest case, which the invariant refutes at
     once. The explicit bound is what cvc5's non-linear reasoning lacked (case 1 of
-    ``separation.no_collision_rbd_seed000`` has no answer without it, docs/certificates.md); in the engine's own
-    split it stalled z3 on the coarse-cycle variant, hence a split for the certificate only (docs/certificates.md)."""
+    ``separation.no_collision_rbd_seed000`` has no answer without it, docs/certificates.md). The engine splits on
+    it only for relative braking's no-collision, where z3 lacked it too; elsewhere it stalled z3 on the
+    coarse-cycle variant, hence a split for the certificate only (docs/certificates.md)."""
     by_brake_cycles = brake_cycle_cases(n_be)
 
     def by_brake_cycles_within_bound(o, p, s):

@@ -72,6 +72,19 @@ TAG_READER = Assumption(
 )
 
 
+def _known_tags_genuine(o, p, s, i):
+    known = o.or_(*(o.eq(i.tag_id, tag_id) for tag_id in p.tag_ids))
+    return o.implies(o.and_(i.tag_read, known), _genuine_tag(o, p, s, i))
+
+
+KNOWN_TAGS_GENUINE = Assumption(
+    "known_tags_genuine",
+    "a tag reported with an id of the table is that tag, read as the cycle ends with the true front within the tag "
+    "window of it (tags may be missed, and a read of an id not in the table may come at any time)",
+    _known_tags_genuine,
+)
+
+
 def _kinematics(o, p, s, i):
     dt, zero, two = p.cycle_s, o.const(0), o.const(2)
     a, d = p.max_acceleration_mps2, p.max_deceleration_mps2
@@ -165,6 +178,14 @@ def _front_between_lrt_and_next(o, p, s, i, out, nxt):
 
 def _front_in_interval(o, p, s, i, out, nxt):
     return o.implies(out.position_valid, o.and_(out.front_min_m <= nxt.front_m, nxt.front_m <= out.front_max_m))
+
+
+def _front_within_tacho_excess(o, p, s, i, out, nxt):
+    excess = nxt.tacho_excess_m
+    return o.implies(
+        out.position_valid,
+        o.and_(out.front_min_m - excess <= nxt.front_m, nxt.front_m <= out.front_max_m + excess),
+    )
 
 
 def _rear_in_interval(o, p, s, i, out, nxt):
@@ -274,6 +295,18 @@ PROPERTIES = (
         "resets, for any forward motion (tachometer and tag reader within their stated errors).",
         _front_in_interval,
         (TABLE, TACHOMETER, TAG_READER),
+        seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
+    ),
+    _property(
+        "front_within_tacho_excess",
+        "POS-17",
+        "Under any tachometer fault (a drift beyond the stated error, a slide or spin, a standstill reading while "
+        "moving, a backward reading), missed tags and reads of ids not in the table, while the position is valid "
+        "the true front is within the interval widened on each side by the tachometer's error beyond its stated "
+        "bound summed since the last tag: a fault the position checks do not catch moves the interval off the "
+        "true front by no more than that.",
+        _front_within_tacho_excess,
+        (TABLE, KNOWN_TAGS_GENUINE),
         seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
     ),
     _property(
@@ -408,4 +441,4 @@ PROPERTIES = (
     ),
 )
 
-__all__ = ["KINEMATICS", "PROPERTIES", "READER_COMPLETE", "TABLE", "TACHOMETER", "TAG_READER"]
+__all__ = ["KINEMATICS", "KNOWN_TAGS_GENUINE", "PROPERTIES", "READER_COMPLETE", "TABLE", "TACHOMETER", "TAG_READER"]

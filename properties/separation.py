@@ -39,6 +39,7 @@ from atcs.properties.closed_loop import (
     brake_cycle_splits,
     braking_invariant,
     follows_plant_and_atp,
+    speed_bounded_brake_cycle_cases,
     whole_cycles,
 )
 from atcs.properties.curves import MAX_LINE_M
@@ -357,7 +358,8 @@ def separation_properties(preset: str, fixed: dict, mode: str) -> tuple[Property
             holds=lambda o, p, s, i, out, nxt: s.front_m < s.leader_rear_m,
             assumptions=(*assumptions, MARGIN),
             lemmas=(invariant, reports, earliest),
-            **brake_cycle_splits(n_be),
+            cases=speed_bounded_brake_cycle_cases(n_be),
+            certificate_cases=speed_bounded_brake_cycle_cases(n_be),
             **common,
         ),
     )

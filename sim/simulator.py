@@ -46,6 +46,7 @@ from atcs.model.ops.floating import FLOAT, float_record, floats
 from atcs.model.plant import PlantParams
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
+from atcs.model.position_loop import tacho_excess_m
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
@@ -63,9 +64,6 @@ from atcs.sim.train_run import SafetyViolation, TrainRun
 KMH = float(KMH_PER_MPS)
 FLOAT_SLACK_M = 1e-6
 """The position interval is checked to contain the true front up to this (both are float sums)."""
-SENSOR_FAULTS = ("missed_tag", "spurious_tag", "tacho_drift", "tacho_slide")
-"""Faults that may take the sensors outside their stated errors: the position interval is not checked to contain
-the true front on a train that has one (the position node's fault detection is what such a run tests)."""
 CORRUPTED_BIT = (1 << (8 * REPORT_BYTES - 1 - 95)).to_bytes(REPORT_BYTES, "big")
 """The bit a ``t2t_corrupt`` fault flips: D_REAR's 2^24 cm bit, so a report read without its safety code would put
 the leader 167.77 km further on."""
@@ -380,13 +378,12 @@ class Simulation:
         """One cycle of train ``k``'s onboard functions and its plant: returns (the resources it sends a request or
         release for, the T2T report it sends)."""
         pos = self._locate(train, t)
-        auth, lo = self._authority(train, pos, leader, leader_ahead_m, k, t)
+        auth, lo, report_status = self._authority(train, pos, leader, leader_ahead_m, k, t)
         eoa_m = float(auth.eoa_m)
         commands, curves = self._supervise(train, pos, eoa_m, t)
         target, traction = self._drive(train, pos, eoa_m, curves, commands, t)
         self._record(train, pos, eoa_m, curves, target, commands, traction, t)
-        delivered = leader is not None and leader.report is not None
-        train.last["leader_report"] = ("dropped", "accepted")[auth.report_accepted] if delivered else "none"
+        train.last["leader_report"] = report_status
         report = None
         if pos.position_valid:
             train.reports_sent += 1
@@ -405,7 +402,8 @@ class Simulation:
 
     def _locate(self, train: TrainRun, t: float):
         """Step 1, position: the tag read this cycle (or a sensor fault in its place) and the tachometer; a valid
-        position must contain the true front unless a sensor fault is injected."""
+        position must contain the true front, its interval widened by the tachometer's error beyond its stated
+        bound since the last tag (POS-17: any tachometer fault, missed tags, reads of unknown ids)."""
         spec = train.spec
         self._move_tag_table(train)
         tag = None if spec.fault("missed_tag", t) else train.last_tag
@@ -414,21 +412,33 @@ class Simulation:
         if spurious is not None:
             tag, tag_id = -1, float(spurious.value)
         pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
-        inside = pos.front_min_m - FLOAT_SLACK_M <= train.front_m <= pos.front_max_m + FLOAT_SLACK_M
-        if pos.position_valid and not inside and not any(f.kind in SENSOR_FAULTS for f in spec.faults):
+        excess = float(tacho_excess_m(FLOAT, train.position.params, train.last_distance_m, train.last_tacho_m))
+        train.tacho_excess_m = 0.0 if tag is not None and pos.position_valid else train.tacho_excess_m + excess
+        slack_m = train.tacho_excess_m + FLOAT_SLACK_M
+        inside = pos.front_min_m - slack_m <= train.front_m <= pos.front_max_m + slack_m
+        if pos.position_valid and not inside and not self._misread_known_tag(spec):
             raise SafetyViolation(
                 f"the true front {train.front_m:.3f} m is outside the position interval "
-                f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m",
+                f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m widened by the tachometer's excess error "
+                f"{train.tacho_excess_m:.3f} m (POS-17)",
                 spec.name,
                 self.step_count,
                 t,
             )
         return pos
 
+    def _misread_known_tag(self, spec) -> bool:
+        """The train carries a ``spurious_tag`` fault with the id of a tag of the line: no property covers it (the
+        position is set again from one tag read after a fault, so a known id read in the wrong place goes
+        unnoticed until the next tag)."""
+        return any(f.kind == "spurious_tag" and float(f.value) in self.tag_ids for f in spec.faults)
+
     def _authority(self, train: TrainRun, pos, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """Step 2, movement authority on the window of the route the train needs, on exact numbers (the float
-        rounding of a stopping point would break the authority properties by an ulp): returns the node's outputs
-        and the window's first resource."""
+        rounding of a stopping point would break the authority properties by an ulp): returns the node's outputs,
+        the window's first resource and what became of the leader's report (the trace's ``leader_report``:
+        ``none`` delivered, ``accepted``, ``corrupt``, or ``out_of_sequence``: replayed, overtaken or stamped in
+        the future)."""
         zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
         received = None
         if leader is not None and leader.report is not None:
@@ -466,7 +476,10 @@ class Simulation:
         for i, command in enumerate(auth.switch_command, start=lo):
             if command and i % count not in self.switch_thrown_at:
                 self._throw_switch(i % count, bool(window.switch_needs_reverse[i - lo]), t)
-        return auth, lo
+        status = "none"
+        if received is not None:
+            status = "accepted" if auth.report_accepted else "out_of_sequence" if received.intact else "corrupt"
+        return auth, lo, status
 
     def _throw_switch(self, r: int, reverse: bool, t: float) -> None:
         """The object controller starts throwing switch ``r`` to ``reverse`` (or normal): it reports it unlocked

@@ -69,6 +69,8 @@ class TrainRun:
     last_distance_m: float = 0.0
     last_tacho_m: float = 0.0
     """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
+    tacho_excess_m: float = 0.0
+    """The tachometer's error beyond its stated bound since the position was last set at a tag (POS-17)."""
     door_params: DoorParams | None = None
     dcu: DcuState = field(default_factory=lambda: DcuState(False, False))
     next_station: int = 0

@@ -54,6 +54,12 @@ MUTANTS = {
         "(o.const(1) - p.tacho_error) * offset_m",
         "offset_m",
     ),
+    # after a tag, the offset starts from this cycle's reading instead of 0
+    "position.front_within_tacho_excess": (
+        position.position_step,
+        "offset = o.ite(reset, zero, offset)",
+        "offset = o.ite(reset, i.tacho_m, offset)",
+    ),
     # the rear taken from the estimated front, without the confidence interval
     "position.rear_in_interval": (
         position.position_step,
@@ -278,6 +284,7 @@ class PositionMachine(RuleBasedStateMachine):
             front_m=Fraction(start_m),
             speed_mps=Fraction(0),
             last_distance_m=Fraction(0),
+            tacho_excess_m=Fraction(0),
         )
         self.monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
         self.found = False  # a tag has been read since power-up
