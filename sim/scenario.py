@@ -59,6 +59,7 @@ FAULTS = {
     "t2t_replay": "the train's T2T reports are replaced by a replay of the last one delivered before the fault",
     "t2t_corrupt": "one bit of each T2T report of the train is flipped on the way (its rear's 2^24 cm bit)",
     "stuck_door": "an obstacle holds the doors open",
+    "clock_drift": "the train's clock runs `factor` times as fast as true time (e.g. 1.05, or 0.95: slow)",
 }
 """Fault kinds a train may carry for a time window, and what each does."""
 FAULT_FIELDS = {
@@ -66,6 +67,7 @@ FAULT_FIELDS = {
     "tacho_drift": {"factor": None},
     "tacho_slide": {"factor": None},
     "t2t_delay": {"delay_s": None},
+    "clock_drift": {"factor": None},
 }
 """Each fault's own fields, with their defaults (None: required)."""
 

@@ -135,8 +135,15 @@ class Simulation:
 
     @property
     def clock_s(self) -> Fraction:
-        """Every train's onboard clock, exact (the trains' clocks agree)."""
+        """The true time, exact: every train's onboard clock unless a ``clock_drift`` fault is active."""
         return self.step_count * self.scenario.cycle_s
+
+    def onboard_clock_s(self, train: TrainRun) -> Fraction:
+        """What the train's clock reads: the true time, or under ``clock_drift`` one running ``factor`` times as
+        fast since the fault began."""
+        now = self.clock_s
+        drift = train.spec.fault("clock_drift", float(now))
+        return now if drift is None else now + (drift.value - 1) * (now - drift.from_s)
 
     def _train(self, spec: TrainSpec) -> TrainRun:
         s, d = self.scenario, spec.data
@@ -391,7 +398,7 @@ class Simulation:
                 T2TReport(
                     sender_id=k + 1,
                     seq=train.reports_sent,
-                    sent_s=self.clock_s,
+                    sent_s=self.onboard_clock_s(train),
                     rear_m=Fraction(pos.rear_min_m),
                     speed_mps=Fraction(max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)),
                 )
@@ -459,7 +466,7 @@ class Simulation:
                 held=tuple(held[i % count] for i in range(lo, hi)),
                 switch_locked=tuple(i % count not in self.switch_thrown_at for i in range(lo, hi)),
                 switch_reversed=tuple(self.switch_reversed[i % count] for i in range(lo, hi)),
-                now_s=self.clock_s,
+                now_s=self.onboard_clock_s(train),
                 report_delivered=received is not None,
                 report_intact=received is not None and received.intact,
                 report_seq=Fraction(report.seq),

@@ -556,6 +556,24 @@ class TestFaults:
         assert {r[1]["leader_report"] for r in records[360:600]} == {"accepted"}
         assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
 
+    @pytest.mark.parametrize("fast", ["leader", "follower"])
+    def test_a_drifting_clock_makes_the_reports_no_sign_of_life(self, tmp_path, fast):
+        """The leader's clock running 5 % fast, or the follower's 5 % slow, from 30 s: once the leader's time
+        stamps are ahead of the follower's clock (no skew allowed), its reports renew nothing, the time-out
+        passes and the MA ends the margin behind the rear they report (brick wall; their bounds stay true)."""
+        drift = 'faults = [{ kind = "clock_drift", factor = FACTOR, from_s = 30 }]'
+        if fast == "leader":
+            sim, records = _fault_run(tmp_path, leader=drift.replace("FACTOR", "1.05"))
+        else:
+            path = tmp_path / "faults.toml"
+            text = FAULT_LINE.format(leader="", line="", duration_s=60)
+            path.write_text(text + drift.replace("FACTOR", "0.95") + "\n")
+            sim, records = _run(load_scenario(path))
+        assert {r[1]["leader_report"] for r in records[340:600]} == {"out_of_sequence"}
+        length_m = float(sim.trains[0].spec.data.train_length_m)
+        assert all(r[1]["eoa_m"] <= r[0]["front_m"] - length_m - 20 for r in records[340:600])
+        assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
+
     def test_reordered_reports_keep_the_ma_long(self, tmp_path):
         sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_reorder", from_s = 30, until_s = 60 }]')
         seen = [r[1]["leader_report"] for r in records[310:600]]

@@ -207,6 +207,12 @@ def test_a_curves_option_out_of_range_is_refused(tmp_path, argv, message, capsys
         ("max_ma_m = 1500", "max_ma_m = 1e300", "line.max_ma_m = 1e+300 must be at most 1000000"),
         ("safety_margin_m = 20", "safety_margin_m = 1e300", "atp.safety_margin_m = 1e+300 must be at most 1000000"),
         ("report_timeout_s = 2", "report_timeout_s = 1e300", "atp.report_timeout_s = 1e+300 must be at most 86400"),
+        (
+            "report_timeout_s = 2",
+            "report_timeout_s = 2\nclock_skew_s = 2",
+            "atp.clock_skew_s = 2 must be below report_timeout_s (2): every report would be stale",
+        ),
+        ("report_timeout_s = 2", "report_timeout_s = 2\nclock_skew_s = -1", "atp.clock_skew_s = -1 must be at least 0"),
         ("planning_decel_kmhps = 1.5", "planning_decel_kmhps = 99", "ato.planning_decel_kmhps = 99 must be at most 18"),
         ("margin_m = 30", "margin_m = 1e300", "ato.margin_m = 1e+300 must be at most 1000000"),
         ("max_speed_kmh = 80", "max_speed_kmh = 1e300", "trains[0].max_speed_kmh = 1e+300 must be at most 600"),
