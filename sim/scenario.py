@@ -49,6 +49,8 @@ PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
 NATIONAL = {"subset026": subset026_national, "seed002": seed002_national}
 FAULTS = {
     "ignores_service_brake": "the train does not apply the ATP's service brake command",
+    "traction_stuck": "full traction stays applied whatever the ATO, the doors and the ATP's traction cut and "
+    "service brake command; only EB (its own loop) cuts it",
     "missed_tag": "the tag reader reads nothing",
     "spurious_tag": "the tag reader reports tag id `tag_id` (default 999999, not in the table) every cycle",
     "tacho_drift": "the tachometer reads `factor` times the distance run (e.g. 1.03)",

@@ -544,7 +544,7 @@ class Simulation:
             traction_request=traction,
             supervision_cut=bool(commands.traction_cut),
         )
-        traction = bool(doors.traction_applied)
+        traction = bool(doors.traction_applied) or spec.fault("traction_stuck", t) is not None
         service_max = float(spec.data.service_decelerations_mps2[0])
         ignores_sb = spec.fault("ignores_service_brake", t) is not None
         service = 0.0 if ignores_sb else (service_max if commands.service_brake else ato_brake)

@@ -481,6 +481,19 @@ class TestFaults:
         assert any(not r[0]["position_valid"] and r[0]["eb"] for r in records)  # the position is lost: EB
         assert sim.trains[1].stats.min_gap_m > 0
 
+    def test_stuck_traction_is_stopped_by_eb(self, tmp_path):
+        """Traction stuck on overrides the service brake and the traction cut: the train passes the ceiling's
+        EBI, EB stops it (EB cuts traction by its own loop), and it never reaches the protection zone."""
+        sim, records = _fault_run(
+            tmp_path,
+            line="[[zones]]\nstart_m = 2200\nfrom_s = 0",
+            leader='faults = [{ kind = "traction_stuck", from_s = 0 }]',
+        )
+        leader = sim.trains[0]
+        assert leader.stats.emergency_brakes >= 1 and all(r[0]["traction"] for r in records if not r[0]["eb"])
+        assert max(r[0]["speed_kmh"] for r in records) > 60  # over its 60 km/h ceiling before EB acts
+        assert leader.front_m < 2200 and sim.trains[1].stats.min_gap_m > 0
+
     def test_a_slide_while_braking_is_caught(self, tmp_path):
         sim, records = _fault_run(
             tmp_path,
