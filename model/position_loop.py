@@ -61,6 +61,12 @@ def tacho_excess_m(o: Ops, p: PositionParams, distance_m, tacho_m):
     return o.max(o.const(0), distance_m - tacho_m - allowed, tacho_m - distance_m - allowed)
 
 
+def tacho_excess_since_tag_m(o: Ops, p: PositionParams, excess_m, tag_read, position_valid, distance_m, tacho_m):
+    """The ghost :attr:`TrueMotion.tacho_excess_m` after a cycle: 0 at a tag reset (a tag read with the position
+    valid: any fault invalidates it), else this cycle's :func:`tacho_excess_m` added."""
+    return o.ite(o.and_(tag_read, position_valid), o.const(0), excess_m + tacho_excess_m(o, p, distance_m, tacho_m))
+
+
 @dataclass(frozen=True)
 class PositionLoopState(PositionState[N, B], SupervisionState[N, B], TrueMotion[N, B]):
     pass
@@ -113,11 +119,8 @@ def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: P
         front_m=s.front_m + i.distance_m,
         speed_mps=i.next_speed_mps,
         last_distance_m=i.distance_m,
-        # a tag read with the position valid is the tag reset (any fault invalidates it)
-        tacho_excess_m=o.ite(
-            o.and_(i.tag_read, position.position_valid),
-            o.const(0),
-            s.tacho_excess_m + tacho_excess_m(o, p, i.distance_m, i.tacho_m),
+        tacho_excess_m=tacho_excess_since_tag_m(
+            o, p, s.tacho_excess_m, i.tag_read, position.position_valid, i.distance_m, i.tacho_m
         ),
     )
     return state, PositionLoopOutputs(**as_dict(position), **as_dict(commands))

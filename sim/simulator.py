@@ -46,7 +46,7 @@ from atcs.model.ops.floating import FLOAT, float_record, floats
 from atcs.model.plant import PlantParams
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
-from atcs.model.position_loop import tacho_excess_m
+from atcs.model.position_loop import tacho_excess_since_tag_m
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
@@ -419,8 +419,17 @@ class Simulation:
         if spurious is not None:
             tag, tag_id = -1, float(spurious.value)
         pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
-        excess = float(tacho_excess_m(FLOAT, train.position.params, train.last_distance_m, train.last_tacho_m))
-        train.tacho_excess_m = 0.0 if tag is not None and pos.position_valid else train.tacho_excess_m + excess
+        train.tacho_excess_m = float(
+            tacho_excess_since_tag_m(
+                FLOAT,
+                train.position.params,
+                train.tacho_excess_m,
+                tag is not None,
+                pos.position_valid,
+                train.last_distance_m,
+                train.last_tacho_m,
+            )
+        )
         slack_m = train.tacho_excess_m + FLOAT_SLACK_M
         inside = pos.front_min_m - slack_m <= train.front_m <= pos.front_max_m + slack_m
         if pos.position_valid and not inside and not self._misread_known_tag(spec):

@@ -281,12 +281,20 @@ def test_vectors_verify_reports_a_directory_in_place_of_the_table(vectors, capsy
     assert "supervision.json: supervision.csv is not a file" in capsys.readouterr().out
 
 
-def test_a_fault_naming_a_tag_by_a_fraction_is_refused(tmp_path, capsys):
-    fault = '\nfaults = [{ kind = "spurious_tag", tag_id = 1.5 }]\n'
-    path = _write(tmp_path, "s.toml", _edited(SCENARIO, "max_speed_kmh = 80\n", "max_speed_kmh = 80" + fault))
+@pytest.mark.parametrize(
+    ("fault", "message"),
+    [
+        ('{ kind = "spurious_tag", tag_id = 1.5 }', "trains[0].faults[0].tag_id = 1.5 must be a whole number"),
+        ('{ kind = "clock_drift", factor = 1e6 }', "trains[0].faults[0].factor = 1000000.0 must be at most 10"),
+        ('{ kind = "t2t_delay", delay_s = 1e300 }', "trains[0].faults[0].delay_s = 1e+300 must be at most 86400"),
+    ],
+)
+def test_a_fault_field_out_of_range_is_refused(tmp_path, capsys, fault, message):
+    faults = f"\nfaults = [{fault}]\n"
+    path = _write(tmp_path, "s.toml", _edited(SCENARIO, "max_speed_kmh = 80\n", "max_speed_kmh = 80" + faults))
     assert main(["sim", str(path)]) == 2
     line = one_line(capsys, "atcs: error: sim: ")
-    assert f"{path}: trains[0].faults[0].tag_id = 1.5 must be a whole number" in line, line
+    assert f"{path}: {message}" in line, line
 
 
 def test_platform_edges_overlapping_on_one_side_are_refused(tmp_path, capsys):
