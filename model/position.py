@@ -2,15 +2,20 @@
 
 The position is kept as seed 001's ``(LRTI, offset)``: the last read tag (LRT) and
 the tachometer distance since it. Each cycle the tachometer's distance increment
-``d`` is added to the offset; a tag read resets the offset to 0 (seed 001 Fig. 7).
-The confidence interval is docs/design.md's odometry formula, with the LRT's position as
-the reference and the tag reader's window as its accuracy::
+``d`` is added to the offset. The tag reader reports a tag with the odometer reading
+at its passage, as a balise transmission module does: ``since_tag_m``, the
+tachometer's distance from the passage to the end of the cycle. A tag read resets
+the offset to that distance (seed 001 Fig. 7 resets it to 0: a read at the cycle's
+end), so the position does not depend on how far the train runs in a cycle: it holds
+at any speed at which a cycle passes at most one tag. The confidence interval is
+docs/design.md's odometry formula, with the LRT's position as the reference and the
+tag window as its accuracy::
 
     min safe front = ref + (1 - e) * offset - w      max safe front = ref + (1 + e) * offset + w
 
 where ``e`` is the tachometer error as a fraction of the *measured* distance (the true
-distance of a cycle is within ``e * d`` of ``d``) and ``w`` the tag window (a tag is
-reported in a cycle whose end finds the true front within ``w`` of the tag). The rear
+distance of a cycle, or from a passage, is within ``e * d`` of the measured ``d``) and
+``w`` the tag window (the reader locates the passage within ``w`` of the tag). The rear
 is the front less the train length (seed 001 §3.2). The estimated speed is the
 distance per cycle, and its accuracy follows from the tachometer error and the
 train's acceleration bounds (a mean over a cycle is within ``A * dt / 2`` of the end
@@ -22,8 +27,11 @@ in the cycle any of these faults is seen:
 
 - ``unknown_tag``: a tag id that is not in the tag table;
 - ``unexpected_tag``: a known tag other than the table's next tag after the LRT;
+- ``tag_passage_outside_cycle``: a tag read whose passage is not in this cycle (its
+  distance since the passage negative or over the cycle's tachometer distance);
 - ``tag_outside_window``: the next tag, read where the odometry interval says the
-  front cannot be (the interval and the tag's window do not overlap);
+  front cannot be (the interval from the LRT and the interval from the tag's passage
+  do not overlap);
 - ``missed_tag``: the min safe front is past the next tag's window and it was not read;
 - ``implausible_tacho``: an increment that is negative or changes from the previous
   one by more than the train's acceleration bounds allow (tachometer standstill while
@@ -65,8 +73,8 @@ class PositionParams(Generic[N, B]):
     tag_positions_m: tuple[N, ...]
     """Each tag's position along the line (strictly increasing)."""
     tag_window_m: N
-    """Tag reading accuracy: a tag is reported in a cycle that ends with the true front within this distance of
-    the tag."""
+    """Tag reading accuracy: the reader locates a tag's passage (its odometer reading) within this distance of the
+    tag."""
     tacho_error: N
     """Tachometer error: the true distance of a cycle is within ``tacho_error * d`` of the measured ``d``
     (wheel wear and diameter included), in [0, 1)."""
@@ -97,6 +105,9 @@ class PositionInputs(Generic[N, B]):
     """The tag reader reports a tag this cycle."""
     tag_id: N
     """The id it reports (ignored without ``tag_read``)."""
+    since_tag_m: N
+    """The tachometer's distance from the reported tag's passage to the end of this cycle: the odometer reading now
+    less the one at the passage (ignored without ``tag_read``)."""
     tacho_m: N
     """The tachometer's distance since the previous cycle (:func:`tacho_distance_m` from pulses)."""
 
@@ -124,6 +135,7 @@ class PositionOutputs(Generic[N, B]):
     """No distance this cycle."""
     unknown_tag: B
     unexpected_tag: B
+    tag_passage_outside_cycle: B
     tag_outside_window: B
     missed_tag: B
     implausible_tacho: B
@@ -173,18 +185,22 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
     next_m = o.select(p.tag_positions_m, next_index)
     known, read_index = o.find(p.tag_ids, i.tag_id)
     expected = o.and_(i.tag_read, has_next, o.eq(i.tag_id, o.select(p.tag_ids, next_index)))
+    tag_low, tag_high = odometry_interval(o, p, next_m, i.since_tag_m)
 
     unknown_tag = o.and_(i.tag_read, o.not_(known))
     unexpected_tag = o.and_(s.localised, i.tag_read, known, o.not_(expected))
-    tag_outside_window = o.and_(s.localised, expected, o.or_(high < next_m - w, low > next_m + w))
+    tag_passage_outside_cycle = o.and_(i.tag_read, o.or_(i.since_tag_m < zero, i.since_tag_m > i.tacho_m))
+    tag_outside_window = o.and_(s.localised, expected, o.or_(high < tag_low, low > tag_high))
     missed_tag = o.and_(s.localised, has_next, o.not_(expected), low > next_m + w)
     implausible_tacho = implausible_increment(o, p, s.last_tacho_m, i.tacho_m)
-    fault = o.or_(unknown_tag, unexpected_tag, tag_outside_window, missed_tag, implausible_tacho)
+    fault = o.or_(
+        unknown_tag, unexpected_tag, tag_passage_outside_cycle, tag_outside_window, missed_tag, implausible_tacho
+    )
 
     reset = o.and_(i.tag_read, known, o.not_(fault))
     localised = o.and_(o.not_(fault), o.or_(s.localised, reset))
     lrt_index = o.ite(reset, read_index, s.lrt_index)
-    offset = o.ite(reset, zero, offset)
+    offset = o.ite(reset, i.since_tag_m, offset)
     ref = o.select(p.tag_positions_m, lrt_index)
     front_min, front_max = odometry_interval(o, p, ref, offset)
     dt = o.max(p.cycle_s, o.const(MIN_CYCLE_S))
@@ -204,6 +220,7 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
         standstill=o.eq(i.tacho_m, zero),
         unknown_tag=unknown_tag,
         unexpected_tag=unexpected_tag,
+        tag_passage_outside_cycle=tag_passage_outside_cycle,
         tag_outside_window=tag_outside_window,
         missed_tag=missed_tag,
         implausible_tacho=implausible_tacho,

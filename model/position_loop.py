@@ -48,23 +48,34 @@ class TrueMotion(Generic[N, B]):
     """The true speed."""
     last_distance_m: N
     """The true distance of the previous cycle."""
-    tacho_excess_m: N
-    """A ghost the ATP never reads: the tachometer's error beyond its stated bound
-    (:func:`tacho_excess_m`), summed since the position was last set at a tag."""
+    sensor_excess_m: N
+    """A ghost the ATP never reads: the sensors' error beyond their stated bounds since the position was last set
+    at a tag: that tag's :func:`tag_excess_m` and the tachometer's :func:`tacho_excess_m` since its passage."""
 
 
 def tacho_excess_m(o: Ops, p: PositionParams, distance_m, tacho_m):
-    """How far a cycle's tachometer reading ``tacho_m`` is off the true ``distance_m`` beyond the stated error
+    """How far a tachometer reading ``tacho_m`` is off the true ``distance_m`` beyond the stated error
     ``tacho_error * tacho_m``: 0 for a tachometer within its error; a drift, a slide or a standstill while moving
     beyond it."""
     allowed = p.tacho_error * tacho_m
     return o.max(o.const(0), distance_m - tacho_m - allowed, tacho_m - distance_m - allowed)
 
 
-def tacho_excess_since_tag_m(o: Ops, p: PositionParams, excess_m, tag_read, position_valid, distance_m, tacho_m):
-    """The ghost :attr:`TrueMotion.tacho_excess_m` after a cycle: 0 at a tag reset (a tag read with the position
-    valid: any fault invalidates it), else this cycle's :func:`tacho_excess_m` added."""
-    return o.ite(o.and_(tag_read, position_valid), o.const(0), excess_m + tacho_excess_m(o, p, distance_m, tacho_m))
+def tag_excess_m(o: Ops, p: PositionParams, passage_m, tag_m):
+    """How far the true front at a tag read's reported passage ``passage_m`` is from the position ``tag_m`` of the
+    tag whose id was read, beyond the tag window: 0 for a tag read within its window; a misplaced tag, a passage
+    misreported or a read of the wrong id beyond it."""
+    return o.max(o.const(0), passage_m - tag_m - p.tag_window_m, tag_m - passage_m - p.tag_window_m)
+
+
+def sensor_excess_since_tag_m(o: Ops, p: PositionParams, excess_m, reset, cycle, since_tag, passage):
+    """The ghost :attr:`TrueMotion.sensor_excess_m` after a cycle. ``cycle`` and ``since_tag`` are ``(true
+    distance, tachometer distance)`` pairs, of the cycle and from the reported tag's passage to its end; ``passage``
+    is ``(the true front at the reported passage, the read tag's position)``. At a tag reset (a tag read with the
+    position valid: any fault invalidates it) the tag's excess and the tachometer's since the passage, else this
+    cycle's :func:`tacho_excess_m` added."""
+    at_tag = tacho_excess_m(o, p, *since_tag) + tag_excess_m(o, p, *passage)
+    return o.ite(reset, at_tag, excess_m + tacho_excess_m(o, p, *cycle))
 
 
 @dataclass(frozen=True)
@@ -76,6 +87,8 @@ class PositionLoopState(PositionState[N, B], SupervisionState[N, B], TrueMotion[
 class PositionLoopInputs(PositionInputs[N, B]):
     distance_m: N
     """The true distance of this cycle (the environment's choice)."""
+    distance_since_tag_m: N
+    """The true distance from the reported tag's passage to the end of this cycle (the environment's choice)."""
     next_speed_mps: N
     """The true speed at the end of this cycle (the environment's choice)."""
     permitted_mps: N
@@ -99,7 +112,7 @@ def position_loop_init(o: Ops, p: PositionLoopParams, s: PositionLoopState):
         supervision_init(o, p, s),
         o.eq(s.speed_mps, zero),
         o.eq(s.last_distance_m, zero),
-        o.eq(s.tacho_excess_m, zero),
+        o.eq(s.sensor_excess_m, zero),
     )
 
 
@@ -119,8 +132,14 @@ def position_loop_step(o: Ops, p: PositionLoopParams, s: PositionLoopState, i: P
         front_m=s.front_m + i.distance_m,
         speed_mps=i.next_speed_mps,
         last_distance_m=i.distance_m,
-        tacho_excess_m=tacho_excess_since_tag_m(
-            o, p, s.tacho_excess_m, i.tag_read, position.position_valid, i.distance_m, i.tacho_m
+        sensor_excess_m=sensor_excess_since_tag_m(
+            o,
+            p,
+            s.sensor_excess_m,
+            o.and_(i.tag_read, position.position_valid),
+            (i.distance_m, i.tacho_m),
+            (i.distance_since_tag_m, i.since_tag_m),
+            (s.front_m + i.distance_m - i.distance_since_tag_m, o.select(p.tag_positions_m, located.lrt_index)),
         ),
     )
     return state, PositionLoopOutputs(**as_dict(position), **as_dict(commands))

@@ -4,8 +4,8 @@ Over :data:`~atcs.model.position_loop.POSITION_LOOP` (the position node between 
 true motion and supervision), for a tag table of :data:`~atcs.model.position.PROOF_TAGS`
 tags with symbolic ids and positions, and symbolic tag window, tachometer error,
 train length, cycle time and acceleration bounds. Each property assumes only what it
-needs: the interval claims hold for *any* motion (forward), the speed claim needs the
-acceleration bounds. The fault claims are stated from the tag table entry by entry,
+needs: the interval claims hold for *any* motion (forward) at any speed, the speed
+claim needs the acceleration bounds. The fault claims are stated from the tag table entry by entry,
 not through the node's own lookups.
 """
 
@@ -40,25 +40,30 @@ TABLE = Assumption(
     _table,
 )
 
+
+def _within_tacho_error(o, p, true_m, measured_m):
+    return o.and_(true_m - measured_m <= p.tacho_error * measured_m, measured_m - true_m <= p.tacho_error * measured_m)
+
+
 TACHOMETER = Assumption(
     "tachometer",
-    "the train never moves backward, and the true distance of each cycle is within tacho_error * d of the "
-    "tachometer's d",
+    "the train never moves backward, and the true distance of each cycle, and from a reported tag's passage to "
+    "the cycle's end, is within tacho_error * d of the tachometer's d",
     lambda o, p, s, i: o.and_(
         o.const(0) <= i.distance_m,
-        i.distance_m - i.tacho_m <= p.tacho_error * i.tacho_m,
-        i.tacho_m - i.distance_m <= p.tacho_error * i.tacho_m,
+        _within_tacho_error(o, p, i.distance_m, i.tacho_m),
+        o.implies(i.tag_read, _within_tacho_error(o, p, i.distance_since_tag_m, i.since_tag_m)),
     ),
 )
 
 
 def _genuine_tag(o, p, s, i):
-    front = s.front_m + i.distance_m
+    passage = s.front_m + i.distance_m - i.distance_since_tag_m
     return o.implies(
         i.tag_read,
         o.or_(
             *(
-                o.and_(o.eq(i.tag_id, tag_id), tag_m - p.tag_window_m <= front, front <= tag_m + p.tag_window_m)
+                o.and_(o.eq(i.tag_id, tag_id), tag_m - p.tag_window_m <= passage, passage <= tag_m + p.tag_window_m)
                 for tag_id, tag_m in zip(p.tag_ids, p.tag_positions_m, strict=True)
             )
         ),
@@ -67,21 +72,9 @@ def _genuine_tag(o, p, s, i):
 
 TAG_READER = Assumption(
     "tag_reader",
-    "a tag reported is a tag of the table and the cycle ends with the true front within the tag window of it",
+    "a tag reported is a tag of the table, and the true front was within the tag window of it at the passage "
+    "the reader reports (the true distance since the passage before the cycle's end)",
     _genuine_tag,
-)
-
-
-def _known_tags_genuine(o, p, s, i):
-    known = o.or_(*(o.eq(i.tag_id, tag_id) for tag_id in p.tag_ids))
-    return o.implies(o.and_(i.tag_read, known), _genuine_tag(o, p, s, i))
-
-
-KNOWN_TAGS_GENUINE = Assumption(
-    "known_tags_genuine",
-    "a tag reported with an id of the table is that tag, read as the cycle ends with the true front within the tag "
-    "window of it (tags may be missed, and a read of an id not in the table may come at any time)",
-    _known_tags_genuine,
 )
 
 
@@ -111,22 +104,26 @@ KINEMATICS = Assumption(
 
 
 def _reader_complete(o, p, s, i):
-    front, w = s.front_m, p.tag_window_m
+    front = s.front_m
     crossed = [o.and_(front < tag_m, tag_m <= front + i.distance_m) for tag_m in p.tag_positions_m]
     reads = [o.and_(i.tag_read, o.eq(i.tag_id, tag_id)) for tag_id in p.tag_ids]
     positions = p.tag_positions_m
     return o.and_(
-        i.distance_m <= w,
-        *(positions[j + 1] - positions[j] > w for j in range(len(positions) - 1)),
+        *(positions[j + 1] - positions[j] > i.distance_m for j in range(len(positions) - 1)),
         *(o.eq(c, r) for c, r in zip(crossed, reads, strict=True)),
-        o.implies(i.tag_read, o.or_(*reads)),
+        o.implies(i.tag_read, o.and_(o.or_(*reads), _passage_in_cycle(o, i))),
     )
+
+
+def _passage_in_cycle(o, i):
+    return o.and_(o.const(0) <= i.since_tag_m, i.since_tag_m <= i.tacho_m)
 
 
 READER_COMPLETE = Assumption(
     "reader_complete",
-    "fault-free tag reader: a tag is reported, with its own id, exactly in the cycle the true front passes it; "
-    "the train runs at most the tag window per cycle and tags are more than the window apart",
+    "fault-free tag reader: a tag is reported, with its own id, exactly in the cycle the true front passes it, "
+    "its passage inside the cycle (0 <= the tachometer's distance since it <= the cycle's); the train runs less "
+    "than the distance between consecutive tags in a cycle (at most one passage per cycle), at any speed",
     _reader_complete,
 )
 
@@ -180,12 +177,31 @@ def _front_in_interval(o, p, s, i, out, nxt):
     return o.implies(out.position_valid, o.and_(out.front_min_m <= nxt.front_m, nxt.front_m <= out.front_max_m))
 
 
-def _front_within_tacho_excess(o, p, s, i, out, nxt):
-    excess = nxt.tacho_excess_m
+def _front_within_sensor_excess(o, p, s, i, out, nxt):
+    excess = nxt.sensor_excess_m
     return o.implies(
         out.position_valid,
         o.and_(out.front_min_m - excess <= nxt.front_m, nxt.front_m <= out.front_max_m + excess),
     )
+
+
+def _misread_tag_bounded(o, p, s, i, out, nxt):
+    positions, n = p.tag_positions_m, len(p.tag_positions_m)
+    cases = []
+    for j in range(n):
+        before_low, before_high = (
+            positions[j] + (o.const(1) - p.tacho_error) * s.offset_m - p.tag_window_m,
+            positions[j] + (o.const(1) + p.tacho_error) * s.offset_m + p.tag_window_m,
+        )
+        low, high = _odometry(o, p, s, i, j)
+        width = high - low
+        cases.append(
+            o.implies(
+                o.and_(o.eq(s.lrt_index, o.const(j)), before_low <= s.front_m, s.front_m <= before_high),
+                o.and_(out.front_min_m - width <= nxt.front_m, nxt.front_m <= out.front_max_m + width),
+            )
+        )
+    return o.implies(o.and_(s.localised, out.position_valid), o.and_(*cases))
 
 
 def _rear_in_interval(o, p, s, i, out, nxt):
@@ -229,13 +245,26 @@ def _unexpected_tag(o, p, s, i, out, nxt):
     return o.implies(o.and_(s.localised, i.tag_read, o.not_(_reads_next(o, p, s, i))), _invalid(o, out))
 
 
+def _from_passage(o, p, i, tag_m):
+    """The min and max safe front by the tachometer's distance since the passage of a tag at ``tag_m``."""
+    since = i.since_tag_m
+    return (
+        tag_m + (o.const(1) - p.tacho_error) * since - p.tag_window_m,
+        tag_m + (o.const(1) + p.tacho_error) * since + p.tag_window_m,
+    )
+
+
 def _tag_outside_window(o, p, s, i, out, nxt):
-    w = p.tag_window_m
     outside = []
     for j, (at, next_id, next_m) in enumerate(_next_tag(o, p, s)):
         low, high = _odometry(o, p, s, i, j)
-        outside.append(o.and_(at, o.eq(i.tag_id, next_id), o.or_(high < next_m - w, low > next_m + w)))
+        tag_low, tag_high = _from_passage(o, p, i, next_m)
+        outside.append(o.and_(at, o.eq(i.tag_id, next_id), o.or_(high < tag_low, low > tag_high)))
     return o.implies(o.and_(s.localised, i.tag_read, o.or_(*outside)), _invalid(o, out))
+
+
+def _tag_passage_outside_cycle(o, p, s, i, out, nxt):
+    return o.implies(o.and_(i.tag_read, o.not_(_passage_in_cycle(o, i))), _invalid(o, out))
 
 
 def _missed_tag(o, p, s, i, out, nxt):
@@ -259,7 +288,7 @@ def _implausible_tacho(o, p, s, i, out, nxt):
 
 def _localises_at_known_tag(o, p, s, i, out, nxt):
     known = o.or_(*(o.eq(i.tag_id, tag_id) for tag_id in p.tag_ids))
-    return o.implies(o.and_(o.not_(s.localised), i.tag_read, known), out.position_valid)
+    return o.implies(o.and_(o.not_(s.localised), i.tag_read, known, _passage_in_cycle(o, i)), out.position_valid)
 
 
 def _no_fault_within_window(o, p, s, i, out, nxt):
@@ -267,7 +296,10 @@ def _no_fault_within_window(o, p, s, i, out, nxt):
     within = []
     for j, (at, next_id, next_m) in enumerate(_next_tag(o, p, s)):
         low, high = _odometry(o, p, s, i, j)
-        reads_next_in_window = o.and_(i.tag_read, o.eq(i.tag_id, next_id), next_m - w <= high, low <= next_m + w)
+        tag_low, tag_high = _from_passage(o, p, i, next_m)
+        reads_next_in_window = o.and_(
+            i.tag_read, o.eq(i.tag_id, next_id), _passage_in_cycle(o, i), tag_low <= high, low <= tag_high
+        )
         not_yet_due = o.and_(o.not_(i.tag_read), low <= next_m + w)
         within.append(o.and_(at, o.or_(reads_next_in_window, not_yet_due)))
     return o.implies(o.and_(s.localised, o.or_(*within)), out.position_valid)
@@ -298,16 +330,29 @@ PROPERTIES = (
         seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
     ),
     _property(
-        "front_within_tacho_excess",
+        "front_within_sensor_excess",
         "POS-17",
-        "Under any tachometer fault (a drift beyond the stated error, a slide or spin, a standstill reading while "
-        "moving, a backward reading), missed tags and reads of ids not in the table, while the position is valid "
-        "the true front is within the interval widened on each side by the tachometer's error beyond its stated "
-        "bound summed since the last tag: a fault the position checks do not catch moves the interval off the "
-        "true front by no more than that.",
-        _front_within_tacho_excess,
-        (TABLE, KNOWN_TAGS_GENUINE),
+        "Under any sensor fault, while the position is valid the true front is within the interval widened on "
+        "each side by the sensors' error beyond their stated bounds since the position was last set at a tag: the "
+        "tachometer's (a drift, a slide or spin, a standstill or backward reading) summed since the tag's passage, "
+        "and the tag's (its passage reported beyond the tag window from the tag whose id was read: a misplaced tag, "
+        "a wrong id of the table). Missed tags and reads of ids not in the table at any time. A fault the position "
+        "checks do not catch moves the interval off the true front by no more than that.",
+        _front_within_sensor_excess,
+        (TABLE,),
         seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
+    ),
+    _property(
+        "misread_tag_bounded",
+        "POS-19",
+        "A tag fault the checks let through moves the interval by at most its own width: while the position is "
+        "valid with the true front in its interval, a cycle with a tag read of any id at any place (a misplaced "
+        "tag, a wrong id of the table, a misreported passage) either invalidates the position or leaves the true "
+        "front within the new interval widened by the width of the odometry interval at the read (2 * window + 2 * "
+        "tacho_error * the distance since the last tag): the new tag's interval must overlap that one.",
+        _misread_tag_bounded,
+        (TABLE, TACHOMETER),
+        ("lrt_in_table",),
     ),
     _property(
         "rear_in_interval",
@@ -344,10 +389,19 @@ PROPERTIES = (
     _property(
         "tag_outside_window_invalidates",
         "POS-06",
-        "The next tag read where the odometry interval excludes its window invalidates the position in that cycle.",
+        "The next tag read where the odometry interval from the last read tag and the one from the new tag's "
+        "passage (its window plus the tachometer's distance since the passage) do not overlap invalidates the "
+        "position in that cycle.",
         _tag_outside_window,
         (TABLE,),
         ("lrt_in_table",),
+    ),
+    _property(
+        "tag_passage_outside_cycle_invalidates",
+        "POS-18",
+        "A tag read whose passage is not inside the cycle (the tachometer's distance since it negative, or over "
+        "the cycle's) invalidates the position in that cycle.",
+        _tag_passage_outside_cycle,
     ),
     _property(
         "missed_tag_invalidates",
@@ -424,21 +478,22 @@ PROPERTIES = (
     _property(
         "localises_at_known_tag",
         "POS-15",
-        "From power-up or after a fault, the first read of a tag of the table (tachometer plausible: sensors "
-        "within their stated errors, motion within the acceleration bounds) makes the position valid.",
+        "From power-up or after a fault, the first read of a tag of the table with its passage inside the cycle "
+        "(tachometer plausible: sensors within their stated errors, motion within the acceleration bounds) makes "
+        "the position valid.",
         _localises_at_known_tag,
         (TABLE, TACHOMETER, KINEMATICS),
     ),
     _property(
         "no_fault_within_window",
         "POS-16",
-        "The tag window's edges are inclusive: a valid position stays valid when the next tag is read with the "
-        "odometry interval meeting its window, or when no tag is read while the min safe front is not past the "
-        "next tag's window (tachometer plausible as for POS-15).",
+        "The tag window's edges are inclusive: a valid position stays valid when the next tag is read, its passage "
+        "inside the cycle, with the odometry interval meeting the one from the passage, or when no tag is read "
+        "while the min safe front is not past the next tag's window (tachometer plausible as for POS-15).",
         _no_fault_within_window,
         (TABLE, TACHOMETER, KINEMATICS),
         ("lrt_in_table",),
     ),
 )
 
-__all__ = ["KINEMATICS", "KNOWN_TAGS_GENUINE", "PROPERTIES", "READER_COMPLETE", "TABLE", "TACHOMETER", "TAG_READER"]
+__all__ = ["KINEMATICS", "PROPERTIES", "READER_COMPLETE", "TABLE", "TACHOMETER", "TAG_READER"]

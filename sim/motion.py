@@ -23,7 +23,8 @@ def move(
     sim: Simulation, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float, t: float
 ) -> None:
     """The plant: nominal traction and brakes, checked against the proofs' plant bounds; the tachometer reads
-    the distance (scaled under a ``tacho_drift`` fault, or a ``tacho_slide`` one while braking)."""
+    the distance (scaled under a ``tacho_drift`` fault, or a ``tacho_slide`` one while braking), and the tag
+    reader a tag passed with the distance since its passage."""
     p, dt = train.plant, sim.dt
     data = train.spec.data
     brake_on = emergency_brake and train.brake_cycles >= p.brake_build_up_cycles
@@ -48,22 +49,24 @@ def move(
         )
     tags = sim.tag_positions_m
     passed = range(bisect.bisect_right(tags, train.front_m), bisect.bisect_right(tags, train.front_m + distance))
-    train.last_tag = passed[-1] if passed else None
-    if passed and train.front_m + distance - tags[passed[-1]] > train.position.params.tag_window_m:
+    if len(passed) > 1:
         raise SafetyViolation(
-            f"ran {distance:.3f} m in a cycle, past the tag window (atp.tag_window_m): the tag "
-            "reader's report would be late beyond the position node's assumption",
+            f"ran {distance:.3f} m in a cycle, past {len(passed)} tags (from {tags[passed[0]]:g} m): the position "
+            "node reads at most one tag a cycle (reader_complete)",
             train.spec.name,
             sim.step_count,
             sim.time_s,
         )
+    drift, slide = train.spec.fault("tacho_drift", t), train.spec.fault("tacho_slide", t)
+    braking = a < 0 and v > 0
+    factor = float(drift.value if drift is not None else (slide.value if slide is not None and braking else 1))
+    train.last_tag = passed[0] if passed else None
+    since_m = min(distance, train.front_m + distance - tags[passed[0]]) if passed else 0.0
+    train.since_tag_m = (since_m, since_m * factor)
     train.front_m += distance
     train.speed_mps = v_next
     train.last_distance_m = distance
-    drift, slide = train.spec.fault("tacho_drift", t), train.spec.fault("tacho_slide", t)
-    braking = a < 0 and v > 0
-    factor = drift.value if drift is not None else (slide.value if slide is not None and braking else 1)
-    train.last_tacho_m = distance * float(factor)
+    train.last_tacho_m = distance * factor
     train.brake_cycles = min(train.brake_cycles + 1, p.brake_build_up_cycles) if emergency_brake else 0.0
     stats = train.stats
     stats.distance_m += distance

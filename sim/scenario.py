@@ -531,7 +531,6 @@ def load_scenario(path: str | Path) -> Scenario:
     clock_skew_s = atp.number("clock_skew_s", 0, minimum=0)
     if clock_skew_s >= report_timeout_s:
         atp.fail("clock_skew_s", f"must be below report_timeout_s ({report_timeout_s}): every report would be stale")
-    _tags_apart(line, tags, atp.number("tag_window_m", minimum=0))
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
     rows = top.rows("trains")
@@ -539,6 +538,7 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{source}: trains: at least one [[trains]] entry is needed")
     national = NATIONAL[atp.text("national", "subset026", tuple(NATIONAL))]()
     cycle_s = top.number("cycle_s", "0.1", positive=True, maximum=MAX_CYCLE_S)
+    _tags_apart(line, tags, speed_limits, cycle_s)
     trains = _trains_in_order(
         source,
         [_train(source, row, j, length_m, layout, tags, national, cycle_s) for j, row in enumerate(rows)],
@@ -613,14 +613,17 @@ MAX_GRID = 100_000
 """The most tags, or resources, a spacing may lay on a line (a 1,000 km line at 10 m)."""
 
 
-def _tags_apart(line: _Reader, tags: TagTable, tag_window_m: Fraction) -> None:
-    """Consecutive tags more than the tag window apart, as the position proofs assume (``reader_complete``)."""
+def _tags_apart(line: _Reader, tags: TagTable, speed_limits: tuple[Segment, ...], cycle_s: Fraction) -> None:
+    """Consecutive tags more than a cycle's run at the line's top speed limit apart: the position node reads at
+    most one tag a cycle (``reader_complete``; the simulator stops a train that passes two)."""
+    top_kmh = max(g.value for g in speed_limits)
+    run_m = top_kmh / KMH_PER_MPS * cycle_s
     for j, (a, b) in enumerate(itertools.pairwise(tags.positions_m), start=1):
-        if b - a <= tag_window_m:
+        if b - a <= run_m:
             raise ScenarioError(
-                f"{line.source}: line: tag {j} at {float(b):g} m is within atp.tag_window_m = "
-                f"{float(tag_window_m):g} m of the tag before it ({float(a):g} m): the position proofs assume tags "
-                "more than the tag window apart"
+                f"{line.source}: line: tag {j} at {float(b):g} m is {float(b - a):g} m after the tag before it, "
+                f"within a cycle's run at the line's top speed limit ({float(top_kmh):g} km/h for cycle_s = "
+                f"{float(cycle_s):g} s: {float(run_m):.3g} m): the position node reads at most one tag a cycle"
             )
 
 

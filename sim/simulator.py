@@ -46,7 +46,7 @@ from atcs.model.ops.floating import FLOAT, float_record, floats
 from atcs.model.plant import PlantParams
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
-from atcs.model.position_loop import tacho_excess_since_tag_m
+from atcs.model.position_loop import sensor_excess_since_tag_m
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
@@ -409,8 +409,8 @@ class Simulation:
 
     def _locate(self, train: TrainRun, t: float):
         """Step 1, position: the tag read this cycle (or a sensor fault in its place) and the tachometer; a valid
-        position must contain the true front, its interval widened by the tachometer's error beyond its stated
-        bound since the last tag (POS-17: any tachometer fault, missed tags, reads of unknown ids)."""
+        position must contain the true front, its interval widened by the sensors' error beyond their stated
+        bounds since the last tag (POS-17: any tachometer or tag fault)."""
         spec = train.spec
         self._move_tag_table(train)
         tag = None if spec.fault("missed_tag", t) else train.last_tag
@@ -418,36 +418,35 @@ class Simulation:
         spurious = spec.fault("spurious_tag", t)
         if spurious is not None:
             tag, tag_id = -1, float(spurious.value)
-        pos = train.position.step(PositionInputs(tag_read=tag is not None, tag_id=tag_id, tacho_m=train.last_tacho_m))
-        train.tacho_excess_m = float(
-            tacho_excess_since_tag_m(
+        since_m, since_tacho_m = train.since_tag_m if tag == train.last_tag else (0.0, 0.0)
+        read = PositionInputs(
+            tag_read=tag is not None, tag_id=tag_id, since_tag_m=since_tacho_m, tacho_m=train.last_tacho_m
+        )
+        pos = train.position.step(read)
+        table = train.position.params
+        train.sensor_excess_m = float(
+            sensor_excess_since_tag_m(
                 FLOAT,
-                train.position.params,
-                train.tacho_excess_m,
-                tag is not None,
-                pos.position_valid,
-                train.last_distance_m,
-                train.last_tacho_m,
+                table,
+                train.sensor_excess_m,
+                tag is not None and pos.position_valid,
+                (train.last_distance_m, train.last_tacho_m),
+                (since_m, since_tacho_m),
+                (train.front_m - since_m, table.tag_positions_m[int(train.position.state.lrt_index)]),
             )
         )
-        slack_m = train.tacho_excess_m + FLOAT_SLACK_M
+        slack_m = train.sensor_excess_m + FLOAT_SLACK_M
         inside = pos.front_min_m - slack_m <= train.front_m <= pos.front_max_m + slack_m
-        if pos.position_valid and not inside and not self._misread_known_tag(spec):
+        if pos.position_valid and not inside:
             raise SafetyViolation(
                 f"the true front {train.front_m:.3f} m is outside the position interval "
-                f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m widened by the tachometer's excess error "
-                f"{train.tacho_excess_m:.3f} m (POS-17)",
+                f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m widened by the sensors' excess error "
+                f"{train.sensor_excess_m:.3f} m (POS-17)",
                 spec.name,
                 self.step_count,
                 t,
             )
         return pos
-
-    def _misread_known_tag(self, spec) -> bool:
-        """The train carries a ``spurious_tag`` fault with the id of a tag of the line: no property covers it (the
-        position is set again from one tag read after a fault, so a known id read in the wrong place goes
-        unnoticed until the next tag)."""
-        return any(f.kind == "spurious_tag" and float(f.value) in self.tag_ids for f in spec.faults)
 
     def _authority(self, train: TrainRun, pos, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """Step 2, movement authority on the window of the route the train needs, on exact numbers (the float

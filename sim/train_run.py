@@ -69,8 +69,8 @@ class TrainRun:
     last_distance_m: float = 0.0
     last_tacho_m: float = 0.0
     """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
-    tacho_excess_m: float = 0.0
-    """The tachometer's error beyond its stated bound since the position was last set at a tag (POS-17)."""
+    sensor_excess_m: float = 0.0
+    """The sensors' error beyond their stated bounds since the position was last set at a tag (POS-17)."""
     door_params: DoorParams | None = None
     dcu: DcuState = field(default_factory=lambda: DcuState(False, False))
     next_station: int = 0
@@ -89,6 +89,9 @@ class TrainRun:
     """The sequence number of the train's last T2T report."""
     last_tag: int | None = None
     """The tag the front passed in the last cycle (read in this one)."""
+    since_tag_m: tuple[float, float] = (0.0, 0.0)
+    """The true distance from :attr:`last_tag`'s passage to the end of the last cycle, and what the tachometer
+    read of it (the odometer reading the tag reader reports with the tag)."""
     report: bytes | None = None
     """The bytes of the train's report delivered this cycle (None: none delivered)."""
     replayed: bytes | None = None

@@ -396,7 +396,12 @@ def position_at_stop(tacho_error):
         front += d
         read = bool(unread) and front >= unread[0] - params.tag_window_m
         out = monitor.step(
-            PositionInputs(tag_read=read, tag_id=Fraction(unread[0] // 10 + 1) if read else Fraction(0), tacho_m=d)
+            PositionInputs(
+                tag_read=read,
+                tag_id=Fraction(unread[0] // 10 + 1) if read else Fraction(0),
+                since_tag_m=max(Fraction(0), front - unread[0]) if read else Fraction(0),
+                tacho_m=d,
+            )
         )
         if read:
             unread.pop(0)

@@ -33,7 +33,7 @@ from atcs.sim.monitor import Monitor
 
 POSITION_PROPERTIES = select("position.*")
 
-_FAULTS = "fault = o.or_(unknown_tag, unexpected_tag, tag_outside_window, missed_tag, implausible_tacho)"
+_FAULTS = "unknown_tag, unexpected_tag, tag_passage_outside_cycle, tag_outside_window, missed_tag, implausible_tacho"
 
 
 def _without(flag):
@@ -54,11 +54,18 @@ MUTANTS = {
         "(o.const(1) - p.tacho_error) * offset_m",
         "offset_m",
     ),
-    # after a tag, the offset starts from this cycle's reading instead of 0
-    "position.front_within_tacho_excess": (
+    # after a tag, the offset starts from 0 (the front taken to be at the tag at the cycle's end) instead of from
+    # the tachometer's distance since the passage: wrong at speed
+    "position.front_within_sensor_excess": (
         position.position_step,
+        "offset = o.ite(reset, i.since_tag_m, offset)",
         "offset = o.ite(reset, zero, offset)",
-        "offset = o.ite(reset, i.tacho_m, offset)",
+    ),
+    # the window check with a tag window of slack on each side: a wrong tag accepted further off
+    "position.misread_tag_bounded": (
+        position.position_step,
+        "o.or_(high < tag_low, low > tag_high)",
+        "o.or_(high + w < tag_low, low > tag_high + w)",
     ),
     # the rear taken from the estimated front, without the confidence interval
     "position.rear_in_interval": (
@@ -71,6 +78,7 @@ MUTANTS = {
     "position.unexpected_tag_invalidates": _without("unexpected_tag"),
     "position.unknown_tag_invalidates": _without("unknown_tag"),
     "position.tag_outside_window_invalidates": _without("tag_outside_window"),
+    "position.tag_passage_outside_cycle_invalidates": _without("tag_passage_outside_cycle"),
     "position.missed_tag_invalidates": _without("missed_tag"),
     "position.implausible_tacho_invalidates": _without("implausible_tacho"),
     # supervision not told that the position is lost
@@ -119,8 +127,8 @@ MUTANTS = {
     # the window's upper edge exclusive (cmp_strict at position_step:+15)
     "position.no_fault_within_window": (
         position.position_step,
-        "o.or_(high < next_m - w, low > next_m + w)",
-        "o.or_(high <= next_m - w, low > next_m + w)",
+        "o.or_(high < tag_low, low > tag_high)",
+        "o.or_(high <= tag_low, low > tag_high)",
     ),
 }
 
@@ -247,7 +255,7 @@ POSITION_DATA = dict(
     max_deceleration_mps2=Fraction(3, 2),
 )
 LINE = tag_table("test line", [x // 10 + 1 for x in range(0, 2001, 100)], list(range(0, 2001, 100)))
-TOP_SPEED_MPS = 22  # 79 km/h: 2.2 m per cycle, under the 3 m tag window
+TOP_SPEED_MPS = Fraction(875, 9)  # 350 km/h: 9.7 m per cycle, over three times the 3 m tag window
 
 
 def _params() -> PositionLoopParams:
@@ -284,7 +292,7 @@ class PositionMachine(RuleBasedStateMachine):
             front_m=Fraction(start_m),
             speed_mps=Fraction(0),
             last_distance_m=Fraction(0),
-            tacho_excess_m=Fraction(0),
+            sensor_excess_m=Fraction(0),
         )
         self.monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
         self.found = False  # a tag has been read since power-up
@@ -301,13 +309,16 @@ class PositionMachine(RuleBasedStateMachine):
         if passed and not tag:
             self.skipped = p.tag_positions_m[passed[0]]
         reported = tag_id if tag_id is not None else (p.tag_ids[passed[0]] if passed else Fraction(0))
+        since = s.front_m + distance - p.tag_positions_m[passed[0]] if passed else Fraction(0)
         big = Fraction(100)
         self.out = self.monitor.step(
             PositionLoopInputs(
                 tag_read=read,
                 tag_id=reported,
+                since_tag_m=since * tacho / distance if passed else since,
                 tacho_m=tacho,
                 distance_m=distance,
+                distance_since_tag_m=since,
                 next_speed_mps=v_next,
                 permitted_mps=big,
                 warning_mps=big,
@@ -381,3 +392,55 @@ class PositionMachine(RuleBasedStateMachine):
 
 TestPositionStateful = pytest.mark.slow(PositionMachine.TestCase)
 TestPositionStateful.settings = settings(max_examples=25, stateful_step_count=12)  # a run drives hundreds of cycles
+
+
+@pytest.mark.slow
+def test_position_kept_from_standstill_to_350_kmh():
+    """Tags reported with the tachometer's distance since their passage: the position stays valid and every
+    position property holds each cycle while the train accelerates from standstill to 350 km/h (9.7 m a cycle,
+    over three times the tag window) and runs on past tags at that speed."""
+    table = tag_table("fast line", range(1, 22), range(0, 8001, 400))
+    p = PositionLoopParams(**dataclasses.asdict(position_params(table, **POSITION_DATA)), service_brake_fitted=True)
+    start = PositionLoopState(
+        localised=False,
+        lrt_index=Fraction(0),
+        offset_m=Fraction(0),
+        last_tacho_m=Fraction(0),
+        eb_latched=True,
+        sb_latched=False,
+        front_m=Fraction(-1),
+        speed_mps=Fraction(0),
+        last_distance_m=Fraction(0),
+        sensor_excess_m=Fraction(0),
+    )
+    monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
+    tags_read, top = 0, Fraction(0)
+    big = Fraction(1000)
+    while monitor.state.front_m < 7_900:
+        s = monitor.state
+        v_next, distance = _motion(p, s.speed_mps, Fraction(1))
+        passed = [j for j, x in enumerate(p.tag_positions_m) if s.front_m < x <= s.front_m + distance]
+        assert len(passed) <= 1
+        since = s.front_m + distance - p.tag_positions_m[passed[0]] if passed else Fraction(0)
+        noise = 1 + Fraction((-1) ** monitor.step_count, 100)  # the tachometer within its 2 % error
+        out = monitor.step(
+            PositionLoopInputs(
+                tag_read=bool(passed),
+                tag_id=p.tag_ids[passed[0]] if passed else p.tag_ids[0],
+                since_tag_m=since * noise,
+                tacho_m=distance * noise,
+                distance_m=distance,
+                distance_since_tag_m=since,
+                next_speed_mps=v_next,
+                permitted_mps=big,
+                warning_mps=big,
+                sbi_mps=big,
+                ebi_mps=big,
+                eb_release=v_next == 0,
+            )
+        )
+        assert all(monitor.applies(q.name) for q in POSITION_PROPERTIES), "left the assumptions"
+        assert out.position_valid or tags_read == 0, f"position lost at {float(monitor.state.front_m):.1f} m"
+        tags_read += bool(passed)
+        top = max(top, monitor.state.speed_mps)
+    assert top == TOP_SPEED_MPS and tags_read == 20

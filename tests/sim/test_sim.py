@@ -516,15 +516,15 @@ class TestFaults:
         )
 
     def test_an_undetected_drift_misses_by_no_more_than_the_excess(self, tmp_path):
-        """A tachometer reading 0.97 times the distance (3 % against the stated 1 %) passes the tag checks (2 m
+        """A tachometer reading 0.95 times the distance (5 % against the stated 1 %) passes the tag checks (4 m
         over 100 m is within the two tag windows) and the interval misses the true front; the run's every-cycle
         check (POS-17) holds it within the tachometer's excess error since the last tag, or the run would stop."""
-        sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "tacho_drift", factor = 0.97, from_s = 0 }]')
+        sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "tacho_drift", factor = 0.95, from_s = 0 }]')
         misses = [
             max(r[0]["front_min_m"] - before[0]["front_m"], before[0]["front_m"] - r[0]["front_max_m"])
             for before, r in itertools.pairwise(records)
         ]
-        assert max(misses) > 0.3 and all(r[0]["position_valid"] for r in records[20:])
+        assert max(misses) > 1 and all(r[0]["position_valid"] for r in records[20:])
         assert sim.trains[0].stats.emergency_brakes == 0
 
     @pytest.mark.parametrize("fault", ['faults = [{ kind = "t2t_loss", from_s = 30, until_s = 60 }]', ""])
@@ -695,12 +695,75 @@ class TestChecks:
         assert again == records[:600]
 
 
+HIGH_SPEED = """name = "high_speed"
+seed = "001 §3.2"
+description = "Two trains at up to {kmh} km/h: a cycle runs several tag windows."
+duration_s = {duration_s}
+cycle_s = 0.1
+
+[line]
+length_m = 30000
+tag_spacing_m = 100
+resource_length_m = 500
+max_ma_m = 8000
+speed_limits = [{{ start_m = 0, kmh = {kmh} }}]
+
+[atp]
+mode = "relative_braking"
+safety_margin_m = 20
+report_timeout_s = 2
+tag_window_m = 1
+tacho_error = 0.01
+
+[ato]
+planning_decel_kmhps = 1.5
+margin_m = 30
+
+[[trains]]
+name = "T1"
+preset = "seed000"
+front_m = 3000
+max_speed_kmh = {kmh}
+
+[[trains]]
+name = "T2"
+preset = "seed000"
+front_m = 1000
+max_speed_kmh = {kmh}
+depart_s = 10
+"""
+
+
+class TestHighSpeed:
+    """Tags are read with the tachometer's distance since their passage, so the position holds at any speed at
+    which a cycle passes at most one tag: the every-cycle position check (the true front in the interval) stays
+    on."""
+
+    @pytest.mark.slow
+    @pytest.mark.parametrize(("kmh", "duration_s", "reached_kmh"), [(160, 120, 155), (300, 300, 290)])
+    def test_two_trains_run_at_speed_with_the_position_checked(self, tmp_path, kmh, duration_s, reached_kmh):
+        path = tmp_path / "fast.toml"
+        path.write_text(HIGH_SPEED.format(kmh=kmh, duration_s=duration_s))
+        sim, records = _run(load_scenario(path))
+        leader = _train(sim, "T1")
+        assert leader.stats.max_speed_kmh >= reached_kmh and leader.stats.emergency_brakes == 0
+        assert all(r[k]["position_valid"] for r in records[1:] for k in range(2))
+        per_cycle_m = max(r[0]["speed_kmh"] for r in records) / 36
+        assert per_cycle_m > 8 * float(sim.scenario.tag_window_m) if kmh == 300 else per_cycle_m > 4
+
+    def test_a_train_passing_two_tags_in_a_cycle_is_stopped(self):
+        sim = Simulation(load_scenario(resolve("seed000_normal")))
+        sim.trains[0].speed_mps = 2500.0  # 250 m in a cycle on a line with a tag every 100 m
+        with pytest.raises(SafetyViolation, match=r"past 2 tags \(from 11100 m\): the position node reads at most one"):
+            sim.step()
+
+
 class TestCommandLine:
     def test_summary_and_csv_trace(self, tmp_path, capsys):
         trace = tmp_path / "t.csv"
         assert main(["sim", "seed000_protection_zone", "--trace", str(trace)]) == 0
         text = capsys.readouterr().out
-        assert "no violation" in text and "4982.4" in text
+        assert "no violation" in text and "4982.2" in text
         lines = trace.read_text().splitlines()
         assert lines[0].startswith("train,t_s,front_m,speed_kmh") and len(lines) == 1 + 2500
 

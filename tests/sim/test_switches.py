@@ -96,7 +96,12 @@ def test_an_authority_that_ignores_the_lock_is_caught(tmp_path, monkeypatch):
         ("length_m = 3000", "length_m = 3000\ntag_spacing_m = 100", "line.tags = [{'id': 1"),
         ("switch_throw_s = 30", "", "line.switch_throw_s is missing: resource 2 is a switch"),
         ("tags = [", "tagz = [", "line.tagz: unknown field"),
-        ("position_m = 405", "position_m = 402", "line: tag 2 at 402 m is within atp.tag_window_m = 2.5 m of the tag"),
+        (
+            "position_m = 405",
+            "position_m = 402",
+            "line: tag 2 at 402 m is 2 m after the tag before it, within a cycle's run at the line's top speed "
+            "limit (80 km/h for cycle_s = 0.1 s: 2.22 m)",
+        ),
         ("length_m = 3000", "length_m = 3000\ndouble_track = true\nturn_back_m = 200", "line.tags = [{'id'"),
     ],
 )
