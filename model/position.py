@@ -38,7 +38,11 @@ in the cycle any of these faults is seen:
   running, spin or slide).
 
 A known tag read while the position is invalid re-establishes it (the first tag after
-power-up). The tag table runs in the direction of travel: a train running the other
+power-up), *unconfirmed*: one tag read cannot be checked, so a wrong one (a misplaced
+tag, a wrong id of the table) would go unnoticed until the next. The position is
+*confirmed* by the next tag read from a valid position, which the checks above compare
+with the odometry. Until then the train sends no position report and releases no
+resource (:mod:`atcs.model.authority`). The tag table runs in the direction of travel: a train running the other
 way uses the table of that direction (ids and positions along it).
 """
 
@@ -97,6 +101,8 @@ class PositionState(Generic[N, B]):
     """The tachometer distance since the last read tag."""
     last_tacho_m: N
     """The previous cycle's tachometer increment."""
+    confirmed: B
+    """The position was set, or set again, at a tag read while it was valid (module docstring)."""
 
 
 @dataclass(frozen=True)
@@ -115,6 +121,8 @@ class PositionInputs(Generic[N, B]):
 @dataclass(frozen=True)
 class PositionOutputs(Generic[N, B]):
     position_valid: B
+    position_confirmed: B
+    """Valid, and checked by a tag read since it was last established from an invalid position."""
     lrti: N
     """The last read tag's id (seed 001: LRTI)."""
     lrt_offset_m: N
@@ -171,7 +179,13 @@ def implausible_increment(o: Ops, p: PositionParams, last_m, tacho_m):
 def position_init(o: Ops, p: PositionParams, s: PositionState):
     """Power-up at standstill: no position until the first tag."""
     zero = o.const(0)
-    return o.and_(o.not_(s.localised), o.eq(s.lrt_index, zero), o.eq(s.offset_m, zero), o.eq(s.last_tacho_m, zero))
+    return o.and_(
+        o.not_(s.localised),
+        o.eq(s.lrt_index, zero),
+        o.eq(s.offset_m, zero),
+        o.eq(s.last_tacho_m, zero),
+        o.not_(s.confirmed),
+    )
 
 
 def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs):
@@ -199,6 +213,7 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
 
     reset = o.and_(i.tag_read, known, o.not_(fault))
     localised = o.and_(o.not_(fault), o.or_(s.localised, reset))
+    confirmed = o.and_(localised, o.or_(s.confirmed, o.and_(s.localised, reset)))
     lrt_index = o.ite(reset, read_index, s.lrt_index)
     offset = o.ite(reset, i.since_tag_m, offset)
     ref = o.select(p.tag_positions_m, lrt_index)
@@ -207,6 +222,7 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
     speed = i.tacho_m / dt
     outputs = PositionOutputs(
         position_valid=localised,
+        position_confirmed=confirmed,
         lrti=o.select(p.tag_ids, lrt_index),
         lrt_offset_m=offset,
         front_est_m=ref + offset,
@@ -225,7 +241,7 @@ def position_step(o: Ops, p: PositionParams, s: PositionState, i: PositionInputs
         missed_tag=missed_tag,
         implausible_tacho=implausible_tacho,
     )
-    return PositionState(localised, lrt_index, offset, i.tacho_m), outputs
+    return PositionState(localised, lrt_index, offset, i.tacho_m, confirmed), outputs
 
 
 PROOF_TAGS = 16

@@ -286,6 +286,14 @@ def _implausible_tacho(o, p, s, i, out, nxt):
     return o.implies(implausible, _invalid(o, out))
 
 
+def _confirmation(o, p, s, i, out, nxt):
+    return o.and_(
+        o.implies(out.position_confirmed, out.position_valid),
+        o.implies(o.not_(s.localised), o.not_(out.position_confirmed)),
+        o.implies(out.position_confirmed, o.or_(s.confirmed, _reads_next(o, p, s, i))),
+    )
+
+
 def _localises_at_known_tag(o, p, s, i, out, nxt):
     known = o.or_(*(o.eq(i.tag_id, tag_id) for tag_id in p.tag_ids))
     return o.implies(o.and_(o.not_(s.localised), i.tag_read, known, _passage_in_cycle(o, i)), out.position_valid)
@@ -483,6 +491,27 @@ PROPERTIES = (
         "the position valid.",
         _localises_at_known_tag,
         (TABLE, TACHOMETER, KINEMATICS),
+    ),
+    _property(
+        "confirmed_by_a_second_tag",
+        "POS-20",
+        "A position is confirmed only while valid, never in the cycle it is set from an invalid position (power-up, "
+        "after a fault: one tag read may be a wrong one), and becomes confirmed only by a read of the table's next "
+        "tag from a valid position (checked against the odometry, POS-04..06).",
+        _confirmation,
+        (TABLE,),
+        ("lrt_in_table",),
+    ),
+    _property(
+        "confirmed_at_next_tag",
+        "POS-21",
+        "Availability of the confirmation: with sensors within their stated errors, a fault-free tag reader and "
+        "motion within the acceleration bounds, a valid position is confirmed at the next tag read and stays so.",
+        lambda o, p, s, i, out, nxt: o.implies(
+            o.and_(s.localised, o.or_(s.confirmed, i.tag_read)), out.position_confirmed
+        ),
+        (TABLE, TACHOMETER, TAG_READER, KINEMATICS, READER_COMPLETE),
+        ("lrt_in_table", "front_in_interval", "front_between_lrt_and_next", "no_false_alarm"),
     ),
     _property(
         "no_fault_within_window",

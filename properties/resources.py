@@ -174,7 +174,10 @@ def _grants_free_resource(o, p, s, i, out, nxt):
 
 def _release_behind_rear(o, p, s, i, out, nxt):
     return o.and_(
-        *(o.implies(out.release[r], o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m)) for r in route_resources(p))
+        *(
+            o.implies(out.release[r], o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m))
+            for r in route_resources(p)
+        )
     )
 
 
@@ -204,7 +207,10 @@ def _switch_command(o, p, s, i, out, nxt):
 
 def _release_when_behind(o, p, s, i, out, nxt):
     return o.and_(
-        *(o.implies(o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m), out.release[r]) for r in route_resources(p))
+        *(
+            o.implies(o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m), out.release[r])
+            for r in route_resources(p)
+        )
     )
 
 
@@ -294,7 +300,8 @@ PROPERTIES = (
         "resources.release_behind_rear",
         "RES-03",
         "001 §3.2 (Fig. 5)",
-        "A resource is released only if the train holds it and it lies wholly behind the min safe rear.",
+        "A resource is released only if the position is confirmed, the train holds it and it lies wholly behind "
+        "the min safe rear: a position set again from one tag read, possibly wrong, releases nothing.",
         _release_behind_rear,
     ),
     _authority_property(
@@ -316,7 +323,7 @@ PROPERTIES = (
         "resources.release_when_behind_rear",
         "RES-07",
         "001 §3.2 (Fig. 5)",
-        "A held resource that lies wholly behind the min safe rear is released.",
+        "A held resource that lies wholly behind the min safe rear is released once the position is confirmed.",
         _release_when_behind,
     ),
 )

@@ -57,7 +57,9 @@ MODES = {"relative_braking": "rbd", "brick_wall": "bw"}
 GAP_TOLERANCE_M = Fraction(1, 1000)
 """The ATP-limited gaps are bisected to this (m) and rounded up to it."""
 SEARCH_TOP_M = Fraction(10_000)
-"""The largest gap searched (m)."""
+"""The first upper end of the gap searched (m), doubled while no gap up to it satisfies the limit."""
+SEARCH_LIMIT_M = Fraction(160_000)
+"""The largest gap searched (m): four doublings, above any braking distance at the highest speed limit."""
 TAG_SPACING_M = 100
 """Seed 000 §2.5: a tag every 100 m."""
 LEADER_FRONT_M = 500
@@ -74,11 +76,31 @@ RUN_S = 200
 """A closed-loop measurement runs this long (s) by default."""
 
 
-def speed_range_kmh(tag_window_m=TAG_WINDOW_M) -> tuple[Fraction, Fraction]:
+HIGHEST_KMH = Fraction(350)
+"""The highest speed :func:`headway_report` runs at: the position holds at any speed (tags are read with the
+odometer reading at their passage), and the measurement, with :func:`run_options`, settles up to here."""
+
+
+def speed_range_kmh() -> tuple[Fraction, Fraction]:
     """The least and the greatest speed (km/h, both included) :func:`headway_report` runs at: from
-    :data:`LOWEST_STEADY_KMH` up to one ``tag_window_m`` in a cycle of :data:`CYCLE_S` (a train running further in
-    a cycle can pass a tag and run past the window before it is read, which the simulator stops as a violation)."""
-    return LOWEST_STEADY_KMH, _number("tag_window_m", tag_window_m) / CYCLE_S * KMH_PER_MPS
+    :data:`LOWEST_STEADY_KMH` to :data:`HIGHEST_KMH`."""
+    return LOWEST_STEADY_KMH, HIGHEST_KMH
+
+
+def run_options(speed_kmh) -> dict:
+    """:func:`measured_minimum`'s defaults for ``speed_kmh``, scaled above 80 km/h by ``f = speed / 80``: the run
+    ``f`` times longer (the trains take longer to reach the speed), the most authority ``f^2`` times larger (braking
+    distances grow with the square of the speed), resources ``f`` times longer (a similar number in the window),
+    the gap's and the speeds' settling tolerances ``f`` times wider (the follower's sawtooth grows with the run of a
+    cycle)."""
+    f = max(Fraction(1), _number("speed_kmh", speed_kmh) / 80)
+    return {
+        "duration_s": RUN_S * f,
+        "max_ma_m": 1500 * f * f,
+        "resource_length_m": 50 * f,
+        "settle_m": 5 * f,
+        "speed_tolerance_kmh": 2 * f,
+    }
 
 
 class HeadwayError(AtcsInputError):
@@ -341,11 +363,13 @@ def _invariant_gap(setting: Setting, speed_mps: Fraction) -> tuple[Fraction, dic
 
 
 def _bisect(holds, what: str) -> Fraction:
-    """The least gap in ``[0, SEARCH_TOP_M]`` (to :data:`GAP_TOLERANCE_M`, rounded up) for which ``holds(gap)``,
-    monotone in the gap."""
+    """The least gap in ``[0, SEARCH_LIMIT_M]`` (to :data:`GAP_TOLERANCE_M`, rounded up) for which ``holds(gap)``,
+    monotone in the gap: bisection from ``[0, SEARCH_TOP_M]``, the top doubled while it does not hold."""
     low, high = Fraction(0), SEARCH_TOP_M
-    if not holds(high):
-        raise HeadwayError(f"no gap up to {high} m satisfies {what} at that speed")
+    while not holds(high):
+        if high >= SEARCH_LIMIT_M:
+            raise HeadwayError(f"no gap up to {high} m satisfies {what} at that speed")
+        low, high = high, 2 * high
     if holds(low):
         return low
     while high - low > GAP_TOLERANCE_M:
@@ -380,6 +404,7 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
             AuthorityInputs(
                 front_max_m=front_max,
                 rear_min_m=-p.train_length_m,
+                position_confirmed=True,
                 held=(),
                 switch_locked=(),
                 switch_reversed=(),
@@ -642,7 +667,9 @@ def headway_report(
 ) -> list[dict]:
     """One row per mode: the measured gap and headway (``options``: :func:`measured_minimum`'s), the
     ATP-limited and the invariant's theoretical ones, and the resource length the measurement used; ``on_mode``
-    is called with each mode before its closed-loop run, ``progress(done, total)`` after each cycle of the runs."""
+    is called with each mode before its closed-loop run, ``progress(done, total)`` after each cycle of the runs.
+    ``options`` not given take :func:`run_options`'s values for the speed."""
+    options = {**run_options(speed_kmh), **options}
     rows = []
     cycles = round(_number("duration_s", options.get("duration_s", RUN_S)) / CYCLE_S)
     for n, mode in enumerate(MODES):

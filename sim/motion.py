@@ -22,7 +22,8 @@ FLOAT_MARGIN = 1e-9
 def move(
     sim: Simulation, train: TrainRun, emergency_brake: bool, traction: bool, service_mps2: float, t: float
 ) -> None:
-    """The plant: nominal traction and brakes, checked against the proofs' plant bounds; the tachometer reads
+    """The plant: nominal traction and brakes (scaled under a ``brake_fade`` fault), checked against the proofs'
+    plant bounds (a brake weaker than they admit stops the run, naming the broken assumption); the tachometer reads
     the distance (scaled under a ``tacho_drift`` fault, or a ``tacho_slide`` one while braking), and the tag
     reader a tag passed with the distance since its passage."""
     p, dt = train.plant, sim.dt
@@ -30,12 +31,14 @@ def move(
     brake_on = emergency_brake and train.brake_cycles >= p.brake_build_up_cycles
     grade = value_at(FLOAT, train.gradient, train.front_m)
     a = -float(gradient_braking_mps2(FLOAT, p, grade))
+    fade = train.spec.fault("brake_fade", t)
+    brake_factor = float(fade.value) if fade is not None else 1.0
     if brake_on:
-        a -= float(data.emergency_decelerations_mps2[0])
+        a -= float(data.emergency_decelerations_mps2[0]) * brake_factor
     elif traction and not emergency_brake:
         a += float(p.max_acceleration_mps2) * (1 - FLOAT_MARGIN)
     else:
-        a -= service_mps2
+        a -= service_mps2 * brake_factor
     v = train.speed_mps
     v_next = max(0.0, v + a * dt)
     distance = v * v / (-2 * a) if v_next == 0.0 and a < 0 else (v + v_next) / 2 * dt

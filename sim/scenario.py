@@ -43,7 +43,7 @@ MAX_DURATION_S = 86_400
 MAX_PLANNING_DECEL_KMHPS = 18
 """The highest deceleration the ATO may plan with (km/h/s): 5 m/s^2, above any train's service brake."""
 MAX_CYCLE_S = 1
-"""The longest ATP cycle a scenario may give (s): the position node expects a tag read within one cycle's run."""
+"""The longest ATP cycle a scenario may give (s): the position node reads at most one tag a cycle."""
 PRESETS = {name: train for name, (train, _) in TRAIN_PRESETS.items()}
 """The seeds' trains a scenario's ``preset`` names."""
 NATIONAL = {"subset026": subset026_national, "seed002": seed002_national}
@@ -61,6 +61,10 @@ FAULTS = {
     "t2t_replay": "the train's T2T reports are replaced by a replay of the last one delivered before the fault",
     "t2t_corrupt": "one bit of each T2T report of the train is flipped on the way (its rear's 2^24 cm bit)",
     "stuck_door": "an obstacle holds the doors open",
+    "atp_reset": "the onboard ATP restarts in each cycle of the window: position unknown, no leader known, EB "
+    "latched, as at power-up",
+    "brake_fade": "the brakes (emergency and service) deliver `factor` times the train data's deceleration (e.g. "
+    "0.8: fade, low adhesion)",
     "clock_drift": "the train's clock runs `factor` times as fast as true time (e.g. 1.05, or 0.95: slow)",
 }
 """Fault kinds a train may carry for a time window, and what each does."""
@@ -70,6 +74,7 @@ FAULT_FIELDS = {
     "tacho_slide": {"factor": None},
     "t2t_delay": {"delay_s": None},
     "clock_drift": {"factor": None},
+    "brake_fade": {"factor": None},
 }
 """Each fault's own fields, with their defaults (None: required)."""
 FAULT_FIELD_MAXIMUM = {"factor": 10, "delay_s": MAX_DURATION_S}

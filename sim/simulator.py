@@ -201,7 +201,7 @@ class Simulation:
         return TrainRun(
             spec=spec,
             plant=float_record(plant),
-            position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0)),
+            position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0, False)),
             authority=AuthorityState(False, *(Fraction(0),) * 4),
             authority_params=authority,
             supervision=SupervisionState(eb_latched=True, sb_latched=False),
@@ -384,6 +384,8 @@ class Simulation:
     def _onboard(self, train: TrainRun, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """One cycle of train ``k``'s onboard functions and its plant: returns (the resources it sends a request or
         release for, the T2T report it sends)."""
+        if train.spec.fault("atp_reset", t):
+            self._power_up(train)
         pos = self._locate(train, t)
         auth, lo, report_status = self._authority(train, pos, leader, leader_ahead_m, k, t)
         eoa_m = float(auth.eoa_m)
@@ -392,7 +394,7 @@ class Simulation:
         self._record(train, pos, eoa_m, curves, target, commands, traction, t)
         train.last["leader_report"] = report_status
         report = None
-        if pos.position_valid:
+        if pos.position_confirmed:
             train.reports_sent += 1
             report = encode_report(
                 T2TReport(
@@ -406,6 +408,16 @@ class Simulation:
         count = self.resources_per_lap
         sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
+
+    @staticmethod
+    def _power_up(train: TrainRun) -> None:
+        """An ``atp_reset`` fault: the onboard ATP restarts, its position, authority and supervision back in their
+        power-up states (position unknown, no leader known, EB latched); the train and the resource manager keep
+        theirs."""
+        train.position.state = PositionState(False, 0.0, 0.0, 0.0, False)
+        train.authority = AuthorityState(False, *(Fraction(0),) * 4)
+        train.supervision = SupervisionState(eb_latched=True, sb_latched=False)
+        train.sensor_excess_m = 0.0
 
     def _locate(self, train: TrainRun, t: float):
         """Step 1, position: the tag read this cycle (or a sensor fault in its place) and the tachometer; a valid
@@ -471,6 +483,7 @@ class Simulation:
             AuthorityInputs(
                 front_max_m=Fraction(pos.front_max_m),
                 rear_min_m=Fraction(pos.rear_min_m),
+                position_confirmed=bool(pos.position_confirmed),
                 held=tuple(held[i % count] for i in range(lo, hi)),
                 switch_locked=tuple(i % count not in self.switch_thrown_at for i in range(lo, hi)),
                 switch_reversed=tuple(self.switch_reversed[i % count] for i in range(lo, hi)),
@@ -579,6 +592,7 @@ class Simulation:
             "sb": bool(commands.service_brake),
             "traction": bool(traction),
             "position_valid": bool(pos.position_valid),
+            "position_confirmed": bool(pos.position_confirmed),
             "doors_open": bool(train.dcu.door_open_left or train.dcu.door_open_right),
         }
         if self.scenario.loop:  # where the front is on the double track

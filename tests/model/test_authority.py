@@ -135,6 +135,18 @@ def test_mutant_falsified_and_counterexample_replays(name):
     assert run.killed, run
 
 
+def test_a_release_on_an_unconfirmed_position_is_caught():
+    """RES-03's second mutant: resources released behind the rear of a position set again from one tag read."""
+    run = falsify(
+        PROPERTIES["resources.release_behind_rear"],
+        authority.authority_step,
+        "o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m)",
+        "o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m)",
+        max_k=2,
+    )
+    assert run.killed, run
+
+
 # --- a worked example ----------------------------------------------------------------------------------------------
 
 LINE = route(
@@ -170,6 +182,7 @@ def _inputs(**changes) -> AuthorityInputs:
     base = dict(
         front_max_m=Fraction(300),
         rear_min_m=Fraction(90),
+        position_confirmed=True,
         held=(True, True, True, True),
         switch_locked=(False, True, False, False),
         switch_reversed=(False, True, False, False),

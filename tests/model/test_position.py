@@ -67,6 +67,18 @@ MUTANTS = {
         "o.or_(high < tag_low, low > tag_high)",
         "o.or_(high + w < tag_low, low > tag_high + w)",
     ),
+    # confirmed by the tag that sets the position from an invalid one
+    "position.confirmed_by_a_second_tag": (
+        position.position_step,
+        "o.or_(s.confirmed, o.and_(s.localised, reset))",
+        "o.or_(s.confirmed, reset)",
+    ),
+    # never confirmed by a tag
+    "position.confirmed_at_next_tag": (
+        position.position_step,
+        "o.or_(s.confirmed, o.and_(s.localised, reset))",
+        "o.or_(s.confirmed, o.and_(s.localised, reset, s.confirmed))",
+    ),
     # the rear taken from the estimated front, without the confidence interval
     "position.rear_in_interval": (
         position.position_step,
@@ -287,6 +299,7 @@ class PositionMachine(RuleBasedStateMachine):
             lrt_index=Fraction(0),
             offset_m=Fraction(0),
             last_tacho_m=Fraction(0),
+            confirmed=False,
             eb_latched=True,
             sb_latched=False,
             front_m=Fraction(start_m),
@@ -406,6 +419,7 @@ def test_position_kept_from_standstill_to_350_kmh():
         lrt_index=Fraction(0),
         offset_m=Fraction(0),
         last_tacho_m=Fraction(0),
+        confirmed=False,
         eb_latched=True,
         sb_latched=False,
         front_m=Fraction(-1),
@@ -441,6 +455,7 @@ def test_position_kept_from_standstill_to_350_kmh():
         )
         assert all(monitor.applies(q.name) for q in POSITION_PROPERTIES), "left the assumptions"
         assert out.position_valid or tags_read == 0, f"position lost at {float(monitor.state.front_m):.1f} m"
+        assert out.position_confirmed == (tags_read > 0)
         tags_read += bool(passed)
         top = max(top, monitor.state.speed_mps)
     assert top == TOP_SPEED_MPS and tags_read == 20

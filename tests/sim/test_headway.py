@@ -20,13 +20,13 @@ from atcs.sim.headway import (
     headway_scenario,
     headway_setting,
     measured_minimum,
+    run_options,
     scenario_text,
     sim_limited_gap,
     speed_range_kmh,
     steady_state,
     theoretical_minimum,
 )
-from atcs.sim.train_run import SafetyViolation
 
 MODES = ("relative_braking", "brick_wall")
 SPEED_KMH = 80
@@ -149,17 +149,42 @@ def test_too_short_a_run_has_no_steady_state():
         measured_minimum("brick_wall", SPEED_KMH, duration_s=30, settle_s=20, follower_depart_s=0)
 
 
-def test_the_speed_range_tops_out_at_one_tag_window_a_cycle():
-    assert speed_range_kmh() == (65, 90)
-    assert speed_range_kmh(tag_window_m=5)[1] == 180
+def test_the_run_scales_with_the_speed_above_80_kmh():
+    assert speed_range_kmh() == (65, 350)
+    assert (
+        run_options(80)
+        == run_options(65)
+        == {
+            "duration_s": 200,
+            "max_ma_m": 1500,
+            "resource_length_m": 50,
+            "settle_m": 5,
+            "speed_tolerance_kmh": 2,
+        }
+    )
+    assert run_options(160) == {
+        "duration_s": 400,
+        "max_ma_m": 6000,
+        "resource_length_m": 100,
+        "settle_m": 10,
+        "speed_tolerance_kmh": 4,
+    }
     scenario = headway_scenario("bw", 80)
     assert (scenario.cycle_s, scenario.tag_window_m) == (CYCLE_S, TAG_WINDOW_M)
 
 
 @pytest.mark.slow
-def test_past_the_top_of_the_range_the_simulator_stops():
-    with pytest.raises(SafetyViolation, match="past the tag window"):
-        measured_minimum("relative_braking", speed_range_kmh()[1] + 1)
+def test_at_160_kmh_the_measured_gap_settles_between_the_route_locking_phases():
+    """Tags are read with the odometer reading at their passage, so the follower runs at 160 km/h (a cycle runs
+    1.8 tag windows) with the position checked every cycle, and settles within the route-locking bracket."""
+    options = run_options(160)
+    figure = measured_minimum("relative_braking", 160, **options)
+    resource_m, settle = options["resource_length_m"], options["settle_m"]
+    shared = {"resource_length_m": resource_m, "max_ma_m": options["max_ma_m"]}
+    best = float(sim_limited_gap("relative_braking", 160, **shared))
+    worst = float(sim_limited_gap("relative_braking", 160, locked_behind_m=resource_m, **shared))
+    assert figure.details["emergency_brakes"] == 0 and figure.details["held_back_cycles"] > 0
+    assert best - 2 * settle <= figure.gap_m <= worst + 2 * settle
 
 
 @pytest.mark.parametrize(

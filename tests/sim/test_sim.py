@@ -481,6 +481,21 @@ class TestFaults:
         assert any(not r[0]["position_valid"] and r[0]["eb"] for r in records)  # the position is lost: EB
         assert sim.trains[1].stats.min_gap_m > 0
 
+    def test_a_wrong_known_tag_is_caught_at_the_next_tag(self, tmp_path):
+        """Two cycles reading the id of the tag at 4,000 m, 2.2 km ahead of the leader: the first is unexpected (the
+        position is lost, EB); the second sets the position again there, unconfirmed (one tag read cannot be
+        checked). Until the next tag the leader sends no report and releases nothing, so its follower is not
+        misled; the next tag, 72 m on, is not the one the wrong position expects: lost again, EB, no collision."""
+        sim, records = _fault_run(
+            tmp_path, leader='faults = [{ kind = "spurious_tag", tag_id = 41, from_s = 30, until_s = 30.2 }]'
+        )
+        wrong = [k for k, r in enumerate(records) if r[0]["position_valid"] and r[0]["front_min_m"] > 3000]
+        assert wrong and all(not records[k][0]["position_confirmed"] for k in wrong)
+        assert records[wrong[-1] + 1][0]["front_m"] - records[wrong[0]][0]["front_m"] < 100  # caught at the next tag
+        assert not records[wrong[-1] + 1][0]["position_valid"] and records[wrong[-1] + 1][0]["eb"]
+        assert all(r[1]["leader_report"] == "none" for r in records[wrong[0] + 1 : wrong[-1] + 1])
+        assert sim.trains[1].stats.min_gap_m > 100
+
     def test_stuck_traction_is_stopped_by_eb(self, tmp_path):
         """Traction stuck on overrides the service brake and the traction cut: the train passes the ceiling's
         EBI, EB stops it (EB cuts traction by its own loop), and it never reaches the protection zone."""
@@ -493,6 +508,38 @@ class TestFaults:
         assert leader.stats.emergency_brakes >= 1 and all(r[0]["traction"] for r in records if not r[0]["eb"])
         assert max(r[0]["speed_kmh"] for r in records) > 60  # over its 60 km/h ceiling before EB acts
         assert leader.front_m < 2200 and sim.trains[1].stats.min_gap_m > 0
+
+    def test_an_atp_reset_brakes_and_recovers_through_two_tags(self, tmp_path):
+        """The leader's ATP restarts at 30 s running at 59 km/h: position unknown, EB in that cycle; the next tag
+        sets the position again, unconfirmed (no report, no release), EB held to a standstill; the driver releases
+        it, the tag after confirms the position and the reports resume. The follower, without reports, brakes on the
+        last one it had."""
+        sim, records = _fault_run(
+            tmp_path, leader='faults = [{ kind = "atp_reset", from_s = 30, until_s = 30.1 }]', duration_s=90
+        )
+        reset = round(30 / 0.1)
+        assert not records[reset][0]["position_valid"] and records[reset][0]["eb"]
+        confirmed = next(k for k in range(reset, len(records)) if records[k][0]["position_confirmed"])
+        assert any(records[k][0]["position_valid"] for k in range(reset, confirmed))  # set again, unconfirmed
+        assert min(r[0]["speed_kmh"] for r in records[reset:confirmed]) == 0  # EB held to a standstill
+        assert all(r[1]["leader_report"] == "none" for r in records[reset + 1 : confirmed + 1])
+        assert records[confirmed + 1][1]["leader_report"] == "accepted"
+        assert sim.trains[1].stats.min_gap_m > 100
+
+    def test_brake_fade_within_the_guaranteed_braking_still_stops_short(self, tmp_path):
+        """Stuck traction and brakes at 80 % of the train data: EB, braking at what the curves guarantee (the
+        confidence factors), still stops the train short of the zone. At 70 % the brake is weaker than the proofs'
+        plant admits: the run stops there, naming the broken assumption, rather than passing on an unproved run."""
+        zone = "[[zones]]\nstart_m = 2200\nfrom_s = 0"
+        stuck = '{ kind = "traction_stuck", from_s = 0 }'
+        sim, _ = _fault_run(
+            tmp_path, line=zone, leader=f'faults = [{{ kind = "brake_fade", factor = 0.8, from_s = 0 }}, {stuck}]'
+        )
+        assert sim.trains[0].stats.emergency_brakes >= 1 and sim.trains[0].front_m < 2200
+        with pytest.raises(SafetyViolation, match="leaves the proofs' plant bounds"):
+            _fault_run(
+                tmp_path, line=zone, leader=f'faults = [{{ kind = "brake_fade", factor = 0.7, from_s = 0 }}, {stuck}]'
+            )
 
     def test_a_slide_while_braking_is_caught(self, tmp_path):
         sim, records = _fault_run(
@@ -680,7 +727,11 @@ class TestChecks:
         sim.trains[0].front_m, sim.trains[0].last_distance_m = 5000.5, 1.0
         with pytest.raises(SafetyViolation, match="entered the protection zone at 5000 m"):
             sim._check()
-        with pytest.raises(SafetyViolation, match=r"true front 5000.500 m is outside the position interval"):
+        sim = Simulation(scenario)
+        for _ in range(3):
+            sim.step()
+        sim.trains[0].front_m += 10.0  # moved with no tachometer reading, no tag
+        with pytest.raises(SafetyViolation, match=r"true front \d+\.\d+ m is outside the position interval"):
             sim.step()
 
     def test_runs_are_deterministic(self, runs):

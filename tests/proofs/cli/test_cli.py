@@ -142,7 +142,7 @@ class TestProve:
             (["prove", "--frobnicate"], "unrecognized arguments"),
             (["bench", "nosuch"], "unknown benchmark 'nosuch'"),
             (["headway", "--speed", "x"], "headway: --speed = 'x' is not a number"),
-            (["headway", "--speed", "0"], "headway: --speed = '0' is outside the supported range, 65 to 90 km/h"),
+            (["headway", "--speed", "0"], "headway: --speed = '0' is outside the supported range, 65 to 350 km/h"),
             ([], "required"),
         ],
     )
