@@ -7,8 +7,9 @@ the preceding train's T2T reports, any protection zone and the line data:
 
 - ``dRequestResource = min(end of line, max safe front + MAX_MA)``: the resources
   overlapping ``[max safe front, dRequestResource)`` that are not held are requested;
-- a held resource is released once it lies wholly behind the min safe rear, the position confirmed (a
-  position set again from one tag read may be wrong: :mod:`atcs.model.position`);
+- a held resource is released once it lies wholly behind the min safe rear, that rear confirmed (the
+  position confirmed, :mod:`atcs.model.position`: one set again from one tag read may be wrong; the train's
+  integrity confirmed: wagons left behind hold the track);
 - a held switch not reported locked in the route's direction is commanded to it;
 - ``dLockedResource``: the start of the first resource ahead of the max safe front that
   is not held, or is a switch not yet reported locked in the route's direction (seed
@@ -93,8 +94,9 @@ class AuthorityState(Generic[N, B]):
 class AuthorityInputs(Generic[N, B]):
     front_max_m: N
     rear_min_m: N
-    position_confirmed: B
-    """The position is confirmed (:mod:`atcs.model.position`): only then are resources released behind the rear."""
+    rear_confirmed: B
+    """The min safe rear is confirmed: the position confirmed (:mod:`atcs.model.position`) and the train's integrity
+    confirmed (no wagon left behind). Only then are resources released behind it."""
     held: tuple[B, ...]
     switch_locked: tuple[B, ...]
     """The object controller reports the switch locked in a position."""
@@ -221,7 +223,7 @@ def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityIn
         o.and_(o.not_(i.held[r]), p.resource_end_m[r] > i.front_max_m, p.resource_start_m[r] < d_request)
         for r in resources
     )
-    release = tuple(o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m) for r in resources)
+    release = tuple(o.and_(i.rear_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m) for r in resources)
     switch_command = tuple(o.and_(i.held[r], o.not_(confirmed(o, p, i, r))) for r in resources)
     d_locked = locked_end_m(o, p, i)
     reports = leader_reports(o, p, s, i)

@@ -93,7 +93,7 @@ def follower_authority(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainI
     inputs = AuthorityInputs(
         front_max_m=front_max,
         rear_min_m=i.measured_front_m - p.position_error_m - p.train_length_m,
-        position_confirmed=o.const_bool(True),
+        rear_confirmed=o.const_bool(True),
         held=i.held,
         switch_locked=i.switch_locked,
         switch_reversed=i.switch_reversed,

@@ -175,7 +175,7 @@ def _grants_free_resource(o, p, s, i, out, nxt):
 def _release_behind_rear(o, p, s, i, out, nxt):
     return o.and_(
         *(
-            o.implies(out.release[r], o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m))
+            o.implies(out.release[r], o.and_(i.rear_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m))
             for r in route_resources(p)
         )
     )
@@ -208,7 +208,7 @@ def _switch_command(o, p, s, i, out, nxt):
 def _release_when_behind(o, p, s, i, out, nxt):
     return o.and_(
         *(
-            o.implies(o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m), out.release[r])
+            o.implies(o.and_(i.rear_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m), out.release[r])
             for r in route_resources(p)
         )
     )
@@ -300,8 +300,9 @@ PROPERTIES = (
         "resources.release_behind_rear",
         "RES-03",
         "001 §3.2 (Fig. 5)",
-        "A resource is released only if the position is confirmed, the train holds it and it lies wholly behind "
-        "the min safe rear: a position set again from one tag read, possibly wrong, releases nothing.",
+        "A resource is released only if the min safe rear is confirmed (the position confirmed, the train's "
+        "integrity confirmed), the train holds it and it lies wholly behind that rear: a position set again from one "
+        "tag read, possibly wrong, or a train that may have left wagons behind, releases nothing.",
         _release_behind_rear,
     ),
     _authority_property(
@@ -323,7 +324,7 @@ PROPERTIES = (
         "resources.release_when_behind_rear",
         "RES-07",
         "001 §3.2 (Fig. 5)",
-        "A held resource that lies wholly behind the min safe rear is released once the position is confirmed.",
+        "A held resource that lies wholly behind the min safe rear is released once that rear is confirmed.",
         _release_when_behind,
     ),
 )

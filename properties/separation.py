@@ -168,7 +168,7 @@ def _authority_on_safe_position(o, p, s, i, out, nxt):
     position = {
         "front_max_m": i.measured_front_m + p.position_error_m,
         "rear_min_m": i.measured_front_m - p.position_error_m - p.train_length_m,
-        "position_confirmed": o.const_bool(True),
+        "rear_confirmed": o.const_bool(True),
     }
     inputs = AuthorityInputs(
         **{f.name: position[f.name] if f.name in position else getattr(i, f.name) for f in fields(AuthorityInputs)}

@@ -404,7 +404,7 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
             AuthorityInputs(
                 front_max_m=front_max,
                 rear_min_m=-p.train_length_m,
-                position_confirmed=True,
+                rear_confirmed=True,
                 held=(),
                 switch_locked=(),
                 switch_reversed=(),

@@ -71,7 +71,22 @@ def move(
     train.last_distance_m = distance
     train.last_tacho_m = distance * factor
     train.brake_cycles = min(train.brake_cycles + 1, p.brake_build_up_cycles) if emergency_brake else 0.0
+    _detached_wagons(train, dt, t)
     stats = train.stats
     stats.distance_m += distance
     stats.running_s += dt if distance > 0 else 0.0
     stats.max_speed_kmh = max(stats.max_speed_kmh, v_next * KMH)
+
+
+def _detached_wagons(train: TrainRun, dt: float, t: float) -> None:
+    """Under an ``integrity_lost`` fault the rear half of the train parts at the fault's start and brakes at the
+    train's emergency deceleration to a stop (its brake pipe broken): :attr:`TrainRun.detached`."""
+    if train.detached is None:
+        if train.spec.fault("integrity_lost", t) is not None:
+            train.detached = (train.front_m - float(train.spec.data.train_length_m), train.speed_mps)
+        return
+    rear_m, v = train.detached
+    decel = float(train.spec.data.emergency_decelerations_mps2[0])
+    v_next = max(0.0, v - decel * dt)
+    run_m = v * v / (2 * decel) if v_next == 0.0 else (v + v_next) / 2 * dt
+    train.detached = (rear_m + run_m, v_next)

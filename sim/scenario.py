@@ -63,6 +63,10 @@ FAULTS = {
     "stuck_door": "an obstacle holds the doors open",
     "atp_reset": "the onboard ATP restarts in each cycle of the window: position unknown, no leader known, EB "
     "latched, as at power-up",
+    "switch_unlocked": "the object controller reports every switch on the train's route unlocked (detection lost, "
+    "a switch moving)",
+    "integrity_lost": "the rear half of the train parts at `from_s` and brakes to a stop where it stays; the "
+    "train's integrity monitor reports the loss during the window",
     "brake_fade": "the brakes (emergency and service) deliver `factor` times the train data's deceleration (e.g. "
     "0.8: fade, low adhesion)",
     "clock_drift": "the train's clock runs `factor` times as fast as true time (e.g. 1.05, or 0.95: slow)",

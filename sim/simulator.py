@@ -394,7 +394,7 @@ class Simulation:
         self._record(train, pos, eoa_m, curves, target, commands, traction, t)
         train.last["leader_report"] = report_status
         report = None
-        if pos.position_confirmed:
+        if self._rear_confirmed(train, pos, t):
             train.reports_sent += 1
             report = encode_report(
                 T2TReport(
@@ -408,6 +408,12 @@ class Simulation:
         count = self.resources_per_lap
         sends = [(lo + q) % count for q, (r, x) in enumerate(zip(auth.request, auth.release, strict=True)) if r or x]
         return sends, report
+
+    @staticmethod
+    def _rear_confirmed(train: TrainRun, pos, t: float) -> bool:
+        """The min safe rear may be reported and resources released behind it: the position confirmed and no
+        integrity loss reported."""
+        return bool(pos.position_confirmed) and train.spec.fault("integrity_lost", t) is None
 
     @staticmethod
     def _power_up(train: TrainRun) -> None:
@@ -476,6 +482,7 @@ class Simulation:
             train.authority_params, **{name: getattr(train.authority_params, name)[lo:hi] for name in ROUTE_FIELDS}
         )
         held, count = self.held[k], self.resources_per_lap
+        unlocked = train.spec.fault("switch_unlocked", t) is not None
         train.authority, auth = check_step(
             AUTHORITY,
             window,
@@ -483,9 +490,9 @@ class Simulation:
             AuthorityInputs(
                 front_max_m=Fraction(pos.front_max_m),
                 rear_min_m=Fraction(pos.rear_min_m),
-                position_confirmed=bool(pos.position_confirmed),
+                rear_confirmed=self._rear_confirmed(train, pos, t),
                 held=tuple(held[i % count] for i in range(lo, hi)),
-                switch_locked=tuple(i % count not in self.switch_thrown_at for i in range(lo, hi)),
+                switch_locked=tuple(not unlocked and i % count not in self.switch_thrown_at for i in range(lo, hi)),
                 switch_reversed=tuple(self.switch_reversed[i % count] for i in range(lo, hi)),
                 now_s=self.onboard_clock_s(train),
                 report_delivered=received is not None,
@@ -629,7 +636,10 @@ class Simulation:
         for k, train in enumerate(self.trains):
             leader, ahead_m = self._leader(k)
             if leader is not None:
-                gap = leader.front_m + ahead_m - float(leader.spec.data.train_length_m) - train.front_m
+                rear_m = leader.front_m - float(leader.spec.data.train_length_m)
+                if leader.detached is not None:
+                    rear_m = min(rear_m, leader.detached[0])
+                gap = rear_m + ahead_m - train.front_m
                 train.stats.min_gap_m = min(train.stats.min_gap_m, gap)
                 if gap <= 0:
                     raise SafetyViolation(

@@ -89,6 +89,8 @@ class TrainRun:
     """The sequence number of the train's last T2T report."""
     last_tag: int | None = None
     """The tag the front passed in the last cycle (read in this one)."""
+    detached: tuple[float, float] | None = None
+    """The rear and the speed of the wagons an ``integrity_lost`` fault left behind (None: the train is whole)."""
     since_tag_m: tuple[float, float] = (0.0, 0.0)
     """The true distance from :attr:`last_tag`'s passage to the end of the last cycle, and what the tachometer
     read of it (the odometer reading the tag reader reports with the tag)."""

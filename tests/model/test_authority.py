@@ -140,7 +140,7 @@ def test_a_release_on_an_unconfirmed_position_is_caught():
     run = falsify(
         PROPERTIES["resources.release_behind_rear"],
         authority.authority_step,
-        "o.and_(i.position_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m)",
+        "o.and_(i.rear_confirmed, i.held[r], p.resource_end_m[r] <= i.rear_min_m)",
         "o.and_(i.held[r], p.resource_end_m[r] <= i.rear_min_m)",
         max_k=2,
     )
@@ -182,7 +182,7 @@ def _inputs(**changes) -> AuthorityInputs:
     base = dict(
         front_max_m=Fraction(300),
         rear_min_m=Fraction(90),
-        position_confirmed=True,
+        rear_confirmed=True,
         held=(True, True, True, True),
         switch_locked=(False, True, False, False),
         switch_reversed=(False, True, False, False),

@@ -526,6 +526,20 @@ class TestFaults:
         assert records[confirmed + 1][1]["leader_report"] == "accepted"
         assert sim.trains[1].stats.min_gap_m > 100
 
+    def test_wagons_left_behind_stop_the_follower(self, tmp_path):
+        """The leader parts at 30 s: its rear half brakes to a stop at about 1,749 m while its front half runs on.
+        With the integrity loss reported, it sends no report and releases no resource, so its follower, its
+        reports gone stale and the resources behind the leader still held, stops short of the wagons."""
+        sim, records = _fault_run(
+            tmp_path, leader='faults = [{ kind = "integrity_lost", from_s = 30 }]', duration_s=120
+        )
+        leader, follower = sim.trains
+        wagons_rear_m, wagons_speed = leader.detached
+        assert wagons_speed == 0 and leader.front_m - wagons_rear_m > 1000  # the front half ran on
+        assert all(r[1]["leader_report"] == "none" for r in records[round(30 / 0.1) + 1 :])
+        assert follower.speed_mps == 0 and 0 < wagons_rear_m - follower.front_m < 200
+        assert follower.stats.min_gap_m > 100
+
     def test_brake_fade_within_the_guaranteed_braking_still_stops_short(self, tmp_path):
         """Stuck traction and brakes at 80 % of the train data: EB, braking at what the curves guarantee (the
         confidence factors), still stops the train short of the zone. At 70 % the brake is weaker than the proofs'

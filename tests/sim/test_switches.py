@@ -123,3 +123,19 @@ def test_without_tags_in_either_form_the_spacing_is_asked_for(tmp_path):
     start, end = SCENARIO.index("tags = ["), SCENARIO.index("resources = [")
     with pytest.raises(ScenarioError, match=r"line.tag_spacing_m is missing \(or line.tags, one by one\)"):
         _scenario(tmp_path, SCENARIO[:start] + SCENARIO[end:])
+
+
+def test_a_switch_reported_unlocked_holds_the_train_before_it(tmp_path):
+    """A ``switch_unlocked`` fault from 25 s to 50 s (the switch is thrown and locked at 30 s): while the object
+    controller reports it unlocked the end of authority stays before the switch (AUT-02) and the train waits there;
+    once it is reported locked again the train runs on."""
+    fault = 'faults = [{ kind = "switch_unlocked", from_s = 25, until_s = 50 }]\n'
+    rows = []
+    sim = Simulation(
+        _scenario(tmp_path, SCENARIO + fault),
+        on_cycle=lambda s: rows.append((s.time_s, s.trains[0].last["eoa_m"], s.trains[0].front_m)),
+    )
+    sim.run()  # a violation raises
+    assert all(eoa <= SWITCH_START_M and front < SWITCH_START_M for t, eoa, front in rows if t < 50)
+    assert max(eoa for t, eoa, _ in rows if t > 51) > SWITCH_START_M + 1000
+    assert sim.trains[0].front_m > SWITCH_START_M + 400
