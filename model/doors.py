@@ -14,8 +14,11 @@ and the ATO or driver asks for that side. The doors of a train lie between
 ``first_door_m`` and ``last_door_m`` behind its front. The door control unit (DCU)
 opens a side only with the ATP's enable *and* the ATO's or driver's open command, and
 closes it when the enable drops or on a close command; a door held by an obstacle
-stays open. The DCU reports whether all doors are closed and locked; while any is
-not, the ATP cuts traction, so the train cannot move under its own power.
+stays open. The DCU reports whether all doors are closed and locked on two
+independent detection loops (the door-closed and the lock switches); the ATP cuts
+traction unless *both* report closed (two out of two), so the train cannot move
+under its own power with a door open even if one loop lies (a sensor stuck at
+closed).
 """
 
 from __future__ import annotations
@@ -73,8 +76,10 @@ class DoorConditions(Generic[N, B]):
 
 @dataclass(frozen=True)
 class DoorEnableInputs(DoorConditions[N, B]):
-    doors_closed_locked: B
-    """The DCU's report: every door is closed and locked."""
+    closed_loop_a: B
+    """The DCU's first detection loop: every door closed and locked."""
+    closed_loop_b: B
+    """The second, independent one."""
 
 
 @dataclass(frozen=True)
@@ -83,7 +88,7 @@ class DoorEnableOutputs(Generic[N, B]):
     """Door open enable, left side."""
     enable_right: B
     traction_cut: B
-    """The door interlock's traction cut-off: some door is not closed and locked."""
+    """The door interlock's traction cut-off: a detection loop reports some door not closed and locked."""
 
 
 def stopped_at_stopping_point(o: Ops, i: DoorConditions):
@@ -110,18 +115,18 @@ def platform_covers_doors(o: Ops, p: DoorParams, i: DoorConditions, side: tuple)
     )
 
 
-def door_enable(o: Ops, p: DoorParams, i: DoorConditions, doors_closed_locked) -> DoorEnableOutputs:
-    """The ATP's door enable per side, and the door interlock (seed 004 §2.1)."""
+def door_enable(o: Ops, p: DoorParams, i: DoorConditions, closed_loop_a, closed_loop_b) -> DoorEnableOutputs:
+    """The ATP's door enable per side, and the door interlock on both detection loops (seed 004 §2.1)."""
     held = o.and_(i.standstill, i.speed_mps <= o.const(0), i.immobilised, stopped_at_stopping_point(o, i))
     return DoorEnableOutputs(
         enable_left=o.and_(i.request_left, held, platform_covers_doors(o, p, i, i.platform_left)),
         enable_right=o.and_(i.request_right, held, platform_covers_doors(o, p, i, i.platform_right)),
-        traction_cut=o.not_(doors_closed_locked),
+        traction_cut=o.not_(o.and_(closed_loop_a, closed_loop_b)),
     )
 
 
 def door_enable_step(o: Ops, p: DoorParams, s: Stateless, i: DoorEnableInputs):
-    return s, door_enable(o, p, i, i.doors_closed_locked)
+    return s, door_enable(o, p, i, i.closed_loop_a, i.closed_loop_b)
 
 
 DOOR_ENABLE = stateless_node(
@@ -217,6 +222,9 @@ class DoorLoopInputs(DoorConditions[N, B]):
     close: B
     obstructed_left: B
     obstructed_right: B
+    loop_a_stuck_closed: B
+    """The first detection loop reports closed whatever the doors (a lying sensor)."""
+    loop_b_stuck_closed: B
     traction_request: B
     """The ATO's or driver's traction command."""
     supervision_traction_cut: B
@@ -228,6 +236,7 @@ class DoorLoopOutputs(Generic[N, B]):
     enable_left: B
     enable_right: B
     closed_locked: B
+    """Both detection loops report every door closed and locked."""
     traction_cut: B
     """The ATP's traction cut-off: supervision's or the door interlock's."""
     traction_applied: B
@@ -235,9 +244,12 @@ class DoorLoopOutputs(Generic[N, B]):
 
 
 def door_loop_step(o: Ops, p: DoorParams, s: DcuState, i: DoorLoopInputs):
-    """One cycle: the DCU reports its doors, the ATP decides the enables and the traction cut-off, the DCU acts."""
-    atp = door_enable(o, p, i, closed_and_locked(o, s))
-    nxt, dcu = dcu_step(
+    """One cycle: the DCU reports its doors on both loops, the ATP decides the enables and the traction cut-off, the
+    DCU acts."""
+    closed = closed_and_locked(o, s)
+    loop_a, loop_b = o.or_(closed, i.loop_a_stuck_closed), o.or_(closed, i.loop_b_stuck_closed)
+    atp = door_enable(o, p, i, loop_a, loop_b)
+    nxt, _ = dcu_step(
         o,
         Stateless(),
         s,
@@ -255,7 +267,7 @@ def door_loop_step(o: Ops, p: DoorParams, s: DcuState, i: DoorLoopInputs):
     return nxt, DoorLoopOutputs(
         enable_left=atp.enable_left,
         enable_right=atp.enable_right,
-        closed_locked=dcu.closed_locked,
+        closed_locked=o.and_(loop_a, loop_b),
         traction_cut=traction_cut,
         traction_applied=o.and_(i.traction_request, o.not_(traction_cut)),
     )

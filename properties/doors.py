@@ -36,6 +36,11 @@ SPEED_NON_NEGATIVE = Assumption(
 )
 
 ENABLE_ASSUMPTIONS = (DOOR_GEOMETRY, PROBES, SPEED_NON_NEGATIVE)
+SINGLE_LOOP_FAULT = Assumption(
+    "single_loop_fault",
+    "at most one of the two door detection loops lies (reports closed whatever the doors)",
+    lambda o, p, s, i: o.not_(o.and_(i.loop_a_stuck_closed, i.loop_b_stuck_closed)),
+)
 
 
 def safe_to_open(o, p, i, side: str):
@@ -118,12 +123,16 @@ PROPERTIES = (
         name="doors.traction_cut_while_unlocked",
         requirement="DOOR-03",
         seed="004 §2.3.3, Fig. 1",
-        text=("While any door is not closed and locked, traction is cut and the train is not driven by its own power."),
+        text=(
+            "While any door is not closed and locked, traction is cut and the train is not driven by its own power, "
+            "even with one of the two detection loops lying (stuck at closed)."
+        ),
         node=DOOR_LOOP,
         holds=lambda o, p, s, i, out, nxt: o.implies(
             o.or_(s.door_open_left, s.door_open_right),
             o.and_(out.traction_cut, o.not_(out.traction_applied)),
         ),
+        assumptions=(SINGLE_LOOP_FAULT,),
     ),
     Property(
         name="doors.open_only_with_enable_and_command",

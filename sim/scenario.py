@@ -67,6 +67,8 @@ FAULTS = {
     "a switch moving)",
     "integrity_lost": "the rear half of the train parts at `from_s` and brakes to a stop where it stays; the "
     "train's integrity monitor reports the loss during the window",
+    "lying_door_sensor": "one of the DCU's two door detection loops reports every door closed and locked whatever "
+    "the doors",
     "brake_fade": "the brakes (emergency and service) deliver `factor` times the train data's deceleration (e.g. "
     "0.8: fade, low adhesion)",
     "clock_drift": "the train's clock runs `factor` times as fast as true time (e.g. 1.05, or 0.95: slow)",

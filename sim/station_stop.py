@@ -52,6 +52,8 @@ def station_doors(
         close=train.dwell_done,
         obstructed_left=obstructed,
         obstructed_right=obstructed,
+        loop_a_stuck_closed=train.spec.fault("lying_door_sensor", t) is not None,
+        loop_b_stuck_closed=False,
         traction_request=traction_request,
         supervision_traction_cut=supervision_cut,
     )

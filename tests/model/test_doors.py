@@ -69,6 +69,12 @@ MUTANTS = {
             "traction_cut = o.or_(atp.traction_cut, i.supervision_traction_cut)",
             "traction_cut = i.supervision_traction_cut",
         ),
+        # the interlock reads one detection loop: a lying sensor on it lets the train drive with a door open
+        (
+            doors.door_enable,
+            "traction_cut=o.not_(o.and_(closed_loop_a, closed_loop_b))",
+            "traction_cut=o.not_(closed_loop_a)",
+        ),
     ],
     "doors.open_only_with_enable_and_command": [
         (doors.door_next, "opens = o.and_(enable, command)", "opens = command"),
@@ -174,6 +180,8 @@ def loop_inputs(
         close=close,
         obstructed_left=obstructed,
         obstructed_right=obstructed,
+        loop_a_stuck_closed=False,
+        loop_b_stuck_closed=False,
         traction_request=traction,
         supervision_traction_cut=False,
     )
@@ -318,12 +326,13 @@ def as_float(value):
 
 class TestRandomRuns:
     @settings(max_examples=200)
-    @given(case=conditions(), locked=st.booleans())
-    def test_door_enable_never_trips_the_monitor(self, case, locked):
+    @given(case=conditions(), loop_a=st.booleans(), loop_b=st.booleans())
+    def test_door_enable_never_trips_the_monitor(self, case, loop_a, loop_b):
         params, fields, fault = case
         monitor = Monitor(DOOR_ENABLE, params, Stateless(), tuple(p for p in DOOR_PROPERTIES if p.node is DOOR_ENABLE))
-        out = monitor.step(DoorEnableInputs(**{k: as_float(v) for k, v in fields.items()}, doors_closed_locked=locked))
-        assert out.traction_cut == (not locked)
+        loops = {"closed_loop_a": loop_a, "closed_loop_b": loop_b}
+        out = monitor.step(DoorEnableInputs(**{k: as_float(v) for k, v in fields.items()}, **loops))
+        assert out.traction_cut == (not (loop_a and loop_b))
         if fault is None:  # not over-restrictive: every condition met gives the enable
             assert out.enable_left or out.enable_right
         elif fault != "random":
@@ -344,10 +353,13 @@ class TestRandomRuns:
                     "close",
                     "obstructed_left",
                     "obstructed_right",
+                    "loop_a_stuck_closed",
+                    "loop_b_stuck_closed",
                     "traction_request",
                     "supervision_traction_cut",
                 )
             }
+            commands["loop_b_stuck_closed"] &= not commands["loop_a_stuck_closed"]  # one lying loop at most
             probe_door = data.draw(st.sampled_from((params.first_door_m, params.last_door_m)))
             fields = {**fields, "probe_door_m": probe_door}
             monitor.step(DoorLoopInputs(**{k: as_float(v) for k, v in fields.items()}, **commands))
@@ -431,7 +443,8 @@ class TestWithPositionDetermination:
             request_right=True,
             probe_front_m=position.front_min_m,
             probe_door_m=TRAIN.last_door_m,
-            doors_closed_locked=True,
+            closed_loop_a=True,
+            closed_loop_b=True,
         )
         enable_properties = tuple(p for p in DOOR_PROPERTIES if p.node is DOOR_ENABLE)
         out = Monitor(DOOR_ENABLE, TRAIN, Stateless(), enable_properties, ops=EXACT).step(inputs)

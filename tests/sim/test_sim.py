@@ -676,12 +676,15 @@ class TestFaults:
         assert any({r for r, h in enumerate(row) if h} - before for row, before in zip(sim.held, held, strict=True))
 
     @pytest.mark.slow
-    def test_a_stuck_door_holds_the_train(self, tmp_path):
-        door = 'faults = [{ kind = "stuck_door", from_s = 90, until_s = 120 }]'
+    @pytest.mark.parametrize("lying", ["", ', { kind = "lying_door_sensor", from_s = 0 }'])
+    def test_a_stuck_door_holds_the_train(self, tmp_path, lying):
+        """An obstacle holds the doors open past the dwell: traction stays cut until it is gone, also with one of
+        the two door detection loops lying (stuck at closed): the other one still reports the door open."""
+        door = f'faults = [{{ kind = "stuck_door", from_s = 90, until_s = 120 }}{lying}]'
         _, records = _fault_run(tmp_path, line=STATION, leader=door, duration_s=125)
         opened = [r[0] for r in records if r[0]["doors_open"]]
         assert opened[0]["front_m"] == pytest.approx(2410, abs=0.5) and opened[0]["t_s"] < 90
-        assert opened[0]["t_s"] + 20 < 105  # the dwell (20 s) ended before 105 s, the obstacle holds the doors
+        assert opened[0]["t_s"] + 20 < 110  # the dwell (20 s) ended before 110 s, the obstacle holds the doors
         assert opened[-1]["t_s"] == pytest.approx(119.9, abs=0.15)  # closed once the obstacle is gone
         assert all(r["speed_kmh"] == 0 and not r["traction"] for r in opened)
         assert records[-1][0]["speed_kmh"] > 0  # and the train departed
