@@ -339,7 +339,7 @@ PROPERTIES = (
     ),
     _property(
         "front_within_sensor_excess",
-        "POS-17",
+        "POS-22",
         "Under any sensor fault, while the position is valid the true front is within the interval widened on "
         "each side by the sensors' error beyond their stated bounds since the position was last set at a tag: the "
         "tachometer's (a drift, a slide or spin, a standstill or backward reading) summed since the tag's passage, "
@@ -406,7 +406,7 @@ PROPERTIES = (
     ),
     _property(
         "tag_passage_outside_cycle_invalidates",
-        "POS-18",
+        "POS-23",
         "A tag read whose passage is not inside the cycle (the tachometer's distance since it negative, or over "
         "the cycle's) invalidates the position in that cycle.",
         _tag_passage_outside_cycle,

@@ -99,7 +99,7 @@ def run_options(speed_kmh) -> dict:
         "max_ma_m": 1500 * f * f,
         "resource_length_m": 50 * f,
         "settle_m": 5 * f,
-        "speed_tolerance_kmh": 2 * f,
+        "speed_tolerance_kmh": Fraction(5, 2) * f,
     }
 
 
@@ -532,7 +532,7 @@ def measured_minimum(
     approach_m=15,
     settle_s=60,
     settle_m=5,
-    speed_tolerance_kmh=2,
+    speed_tolerance_kmh=Fraction(5, 2),
     follower_data: TrainData | None = None,
     on_cycle: Callable[[Simulation], None] = lambda sim: None,
     **options,

@@ -49,7 +49,7 @@ from atcs.model.position import POSITION, PositionInputs, PositionState, positio
 from atcs.model.position_loop import sensor_excess_since_tag_m
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
-from atcs.model.resources import RESOURCES, ResourceInputs, ResourceState
+from atcs.model.resources import HELD, RESOURCES, ResourceInputs, ResourceState
 from atcs.model.restrictions import SpeedRestrictions, as_float
 from atcs.model.supervision import SupervisionParams, SupervisionState, supervise
 from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report
@@ -128,6 +128,27 @@ class Simulation:
         """The switches being thrown and when each will be locked in its new position."""
         self.in_flight: set[int] = set()
         """The slots with a message on its way (up to the manager or down to the train)."""
+        for k in range(len(self.trains)):
+            self._hold_under(k)
+
+    def _hold_under(self, k: int) -> None:
+        """At power-up train ``k`` holds the resources its body stands on (the manager's record of the last session,
+        or the trackside's detection): until its position is confirmed it sends no report and releases nothing, so
+        these keep the train behind from running onto it."""
+        train, (starts, ends) = self.trains[k], self.resource_floats
+        line = float(self.scenario.line_m)
+        front = train.front_m % line if self.scenario.loop else train.front_m
+        rear = front - float(train.spec.data.train_length_m)
+        owner, holding, *_ = self.resource_state
+        count = len(owner)
+        for r in range(count):
+            under = [starts[r] < front and ends[r] > rear]
+            if self.scenario.loop:  # a body across the loop's origin
+                under.append(starts[r] < front + line and ends[r] > rear + line)
+            if any(under):
+                owner[r], holding[k * count + r] = float(k + 1), float(HELD)
+                self.held[k][r] = True
+                self.held_sets[k].add(r)
 
     @property
     def time_s(self) -> float:
@@ -428,7 +449,7 @@ class Simulation:
     def _locate(self, train: TrainRun, t: float):
         """Step 1, position: the tag read this cycle (or a sensor fault in its place) and the tachometer; a valid
         position must contain the true front, its interval widened by the sensors' error beyond their stated
-        bounds since the last tag (POS-17: any tachometer or tag fault)."""
+        bounds since the last tag (POS-22: any tachometer or tag fault)."""
         spec = train.spec
         self._move_tag_table(train)
         tag = None if spec.fault("missed_tag", t) else train.last_tag
@@ -459,7 +480,7 @@ class Simulation:
             raise SafetyViolation(
                 f"the true front {train.front_m:.3f} m is outside the position interval "
                 f"[{pos.front_min_m:.3f}, {pos.front_max_m:.3f}] m widened by the sensors' excess error "
-                f"{train.sensor_excess_m:.3f} m (POS-17)",
+                f"{train.sensor_excess_m:.3f} m (POS-22)",
                 spec.name,
                 self.step_count,
                 t,

@@ -70,7 +70,7 @@ class TrainRun:
     last_tacho_m: float = 0.0
     """What the tachometer read for the last cycle (the distance, unless a tachometer fault is active)."""
     sensor_excess_m: float = 0.0
-    """The sensors' error beyond their stated bounds since the position was last set at a tag (POS-17)."""
+    """The sensors' error beyond their stated bounds since the position was last set at a tag (POS-22)."""
     door_params: DoorParams | None = None
     dcu: DcuState = field(default_factory=lambda: DcuState(False, False))
     next_station: int = 0

@@ -3,6 +3,7 @@
 
 import importlib
 import pkgutil
+import re
 
 import atcs.properties
 from atcs.properties import PROPERTIES
@@ -40,3 +41,14 @@ def test_helper_modules_hold_no_properties():
     for name in HELPERS:
         module = importlib.import_module(f"atcs.properties.{name}")
         assert not isinstance(getattr(module, "PROPERTIES", None), tuple), f"properties/{name}.py registers properties"
+
+
+def test_a_requirement_id_names_one_claim():
+    """Properties share a requirement id only as variants of one claim (a train preset, a braking mode, a curve
+    model): two different claims under one id would make the catalogue ambiguous."""
+    variant = re.compile(r"(_(bw|rbd|seed\d+|stepped|gamma|lambda))+$")
+    claims: dict[str, set[str]] = {}
+    for prop in PROPERTIES.values():
+        claims.setdefault(prop.requirement, set()).add(variant.sub("", prop.name))
+    shared = {req: sorted(names) for req, names in claims.items() if len(names) > 1}
+    assert not shared, shared

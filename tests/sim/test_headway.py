@@ -159,7 +159,7 @@ def test_the_run_scales_with_the_speed_above_80_kmh():
             "max_ma_m": 1500,
             "resource_length_m": 50,
             "settle_m": 5,
-            "speed_tolerance_kmh": 2,
+            "speed_tolerance_kmh": Fraction(5, 2),
         }
     )
     assert run_options(160) == {
@@ -167,7 +167,7 @@ def test_the_run_scales_with_the_speed_above_80_kmh():
         "max_ma_m": 6000,
         "resource_length_m": 100,
         "settle_m": 10,
-        "speed_tolerance_kmh": 4,
+        "speed_tolerance_kmh": 5,
     }
     scenario = headway_scenario("bw", 80)
     assert (scenario.cycle_s, scenario.tag_window_m) == (CYCLE_S, TAG_WINDOW_M)

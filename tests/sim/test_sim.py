@@ -579,7 +579,7 @@ class TestFaults:
     def test_an_undetected_drift_misses_by_no_more_than_the_excess(self, tmp_path):
         """A tachometer reading 0.95 times the distance (5 % against the stated 1 %) passes the tag checks (4 m
         over 100 m is within the two tag windows) and the interval misses the true front; the run's every-cycle
-        check (POS-17) holds it within the tachometer's excess error since the last tag, or the run would stop."""
+        check (POS-22) holds it within the tachometer's excess error since the last tag, or the run would stop."""
         sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "tacho_drift", factor = 0.95, from_s = 0 }]')
         misses = [
             max(r[0]["front_min_m"] - before[0]["front_m"], before[0]["front_m"] - r[0]["front_max_m"])
