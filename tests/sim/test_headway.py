@@ -130,9 +130,16 @@ def test_weak_follower_brake_moves_every_figure_out_of_the_nominal_bound(theory,
     for limit in ("invariant", "atp"):
         weak = theoretical_minimum(mode, SPEED_KMH, limit=limit, follower_data=WEAK)
         assert weak.gap_m > theory[mode, limit].gap_m + 100
-    # a shorter run, and so a looser settling (it is still closing 0.1 m/s): the figure moves by hundreds of metres
+    # a departure close behind, and a looser settling (its gap drifts over a resource): the figure moves by hundreds
+    # of metres
     figure = measured_minimum(
-        mode, SPEED_KMH, resource_length_m=RESOURCE_M, follower_data=WEAK, duration_s=170, settle_m=10
+        mode,
+        SPEED_KMH,
+        resource_length_m=RESOURCE_M,
+        follower_data=WEAK,
+        duration_s=240,
+        settle_m=20,
+        follower_depart_s=32,
     )
     nominal_worst = float(sim_limited_gap(mode, SPEED_KMH, locked_behind_m=RESOURCE_M, resource_length_m=RESOURCE_M))
     assert figure.gap_m > measured[mode].gap_m + 100
