@@ -303,6 +303,25 @@ def _motion(p, speed_mps, accel_mps2):
     return v_next, (speed_mps + v_next) / 2 * dt
 
 
+def _free_running(read, tag_id, since_tag_m, tacho_m, distance_m, distance_since_tag_m, next_speed_mps):
+    """One cycle's inputs with every supervision limit far above the speed; the EB released at standstill."""
+    far = Fraction(1000)
+    return PositionLoopInputs(
+        tag_read=read,
+        tag_id=tag_id,
+        since_tag_m=since_tag_m,
+        tacho_m=tacho_m,
+        distance_m=distance_m,
+        distance_since_tag_m=distance_since_tag_m,
+        next_speed_mps=next_speed_mps,
+        permitted_mps=far,
+        warning_mps=far,
+        sbi_mps=far,
+        ebi_mps=far,
+        eb_release=next_speed_mps == 0,
+    )
+
+
 class PositionMachine(RuleBasedStateMachine):
     """Drive the position loop on the exact backend with random motion and tachometer noise within the stated
     bounds, the tag reader reporting each tag in the cycle the front passes it. Every position property is
@@ -329,22 +348,8 @@ class PositionMachine(RuleBasedStateMachine):
             self.skipped = p.tag_positions_m[passed[0]]
         reported = tag_id if tag_id is not None else (p.tag_ids[passed[0]] if passed else Fraction(0))
         since = s.front_m + distance - p.tag_positions_m[passed[0]] if passed else Fraction(0)
-        big = Fraction(100)
         self.out = self.monitor.step(
-            PositionLoopInputs(
-                tag_read=read,
-                tag_id=reported,
-                since_tag_m=since * tacho / distance if passed else since,
-                tacho_m=tacho,
-                distance_m=distance,
-                distance_since_tag_m=since,
-                next_speed_mps=v_next,
-                permitted_mps=big,
-                warning_mps=big,
-                sbi_mps=big,
-                ebi_mps=big,
-                eb_release=v_next == 0,
-            )
+            _free_running(read, reported, since * tacho / distance if passed else since, tacho, distance, since, v_next)
         )
         self.found = self.found or (read and not self.faulty)
         if read:
@@ -423,7 +428,6 @@ def test_position_kept_from_standstill_to_350_kmh():
     start = _power_up(Fraction(-1))
     monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
     tags_read, top = 0, Fraction(0)
-    big = Fraction(1000)
     while monitor.state.front_m < 7_900:
         s = monitor.state
         v_next, distance = _motion(p, s.speed_mps, Fraction(1))
@@ -431,21 +435,9 @@ def test_position_kept_from_standstill_to_350_kmh():
         assert len(passed) <= 1
         since = s.front_m + distance - p.tag_positions_m[passed[0]] if passed else Fraction(0)
         noise = 1 + Fraction((-1) ** monitor.step_count, 100)  # the tachometer within its 2 % error
+        tag_id = p.tag_ids[passed[0]] if passed else p.tag_ids[0]
         out = monitor.step(
-            PositionLoopInputs(
-                tag_read=bool(passed),
-                tag_id=p.tag_ids[passed[0]] if passed else p.tag_ids[0],
-                since_tag_m=since * noise,
-                tacho_m=distance * noise,
-                distance_m=distance,
-                distance_since_tag_m=since,
-                next_speed_mps=v_next,
-                permitted_mps=big,
-                warning_mps=big,
-                sbi_mps=big,
-                ebi_mps=big,
-                eb_release=v_next == 0,
-            )
+            _free_running(bool(passed), tag_id, since * noise, distance * noise, distance, since, v_next)
         )
         assert all(monitor.applies(q.name) for q in POSITION_PROPERTIES), "left the assumptions"
         assert out.position_valid or tags_read == 0, f"position lost at {float(monitor.state.front_m):.1f} m"
