@@ -67,7 +67,7 @@ LEADER_FRONT_M = 500
 CYCLE_S = Fraction(1, 10)
 """The scenario's ATP cycle (seed 001: 100 ms)."""
 TAG_WINDOW_M = Fraction(5, 2)
-"""The scenario's default ``atp.tag_window_m``: how far past a tag the front may be when the tag is read."""
+"""The scenario's default ``atp.tag_window_m``: how far from a tag the reader may place its passage."""
 LOWEST_STEADY_KMH = Fraction(65)
 """The lowest speed at which :func:`measured_minimum`, with its defaults, settles in both modes (measured: 65 km/h
 does, 62 and 60 km/h do not): below it the follower, held back by its leader, dips more than
