@@ -72,6 +72,12 @@ AUTHORITY_PROPERTIES = registered_properties(AUTHORITY)
 RESOURCE_PROPERTIES = registered_properties(RESOURCES)
 
 
+POSITION_AT_POWER_UP = PositionState(False, 0.0, 0.0, 0.0, False)
+"""The onboard states at power-up (and after an ``atp_reset``): no position, no leader known, EB latched."""
+AUTHORITY_AT_POWER_UP = AuthorityState(False, *(Fraction(0),) * 4)
+SUPERVISION_AT_POWER_UP = SupervisionState(eb_latched=True, sb_latched=False)
+
+
 class Simulation:
     """One scenario, stepped cycle by cycle (:meth:`step`) or to its end (:meth:`run`)."""
 
@@ -222,10 +228,10 @@ class Simulation:
         return TrainRun(
             spec=spec,
             plant=float_record(plant),
-            position=Monitor(POSITION, float_record(pos), PositionState(False, 0.0, 0.0, 0.0, False)),
-            authority=AuthorityState(False, *(Fraction(0),) * 4),
+            position=Monitor(POSITION, float_record(pos), POSITION_AT_POWER_UP),
+            authority=AUTHORITY_AT_POWER_UP,
             authority_params=authority,
-            supervision=SupervisionState(eb_latched=True, sb_latched=False),
+            supervision=SUPERVISION_AT_POWER_UP,
             front_m=float(spec.front_m),
             speed_mps=0.0,
             brake_cycles=float(plant.brake_build_up_cycles),
@@ -441,9 +447,9 @@ class Simulation:
         """An ``atp_reset`` fault: the onboard ATP restarts, its position, authority and supervision back in their
         power-up states (position unknown, no leader known, EB latched); the train and the resource manager keep
         theirs."""
-        train.position.state = PositionState(False, 0.0, 0.0, 0.0, False)
-        train.authority = AuthorityState(False, *(Fraction(0),) * 4)
-        train.supervision = SupervisionState(eb_latched=True, sb_latched=False)
+        train.position.state = POSITION_AT_POWER_UP
+        train.authority = AUTHORITY_AT_POWER_UP
+        train.supervision = SUPERVISION_AT_POWER_UP
         train.sensor_excess_m = 0.0
 
     def _locate(self, train: TrainRun, t: float):
