@@ -4,6 +4,7 @@
 under every backend.
 """
 
+from atcs.model.ats_status import ATS_STATUS
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
 from atcs.model.closed_loop import CLOSED_LOOP, DECREASE_LOOP
 from atcs.model.curves import (
@@ -45,6 +46,7 @@ NODES: dict[str, Node] = {
         POSITION_LOOP,
         RESOURCES,
         AUTHORITY,
+        ATS_STATUS,
         TWO_TRAINS,
         DOOR_ENABLE,
         DCU,

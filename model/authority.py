@@ -37,7 +37,8 @@ the preceding train's T2T reports, any protection zone and the line data:
   margin. A late report restores no credit, a replayed one none either;
 - the end of authority (dMA) is the least of ``dLockedResource``, the leader's limit,
   the start of an active protection zone (set by the ATS), the end of line and the max
-  safe front + MAX_MA; the target speed there (vMA) is 0.
+  safe front + MAX_MA; the target speed there (vMA) is 0. While the ATS's status is not fresh
+  (:mod:`atcs.model.ats_status`), dMA is at most the max safe front: the train stops.
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Generic
 
+from atcs.model.ats_status import message_accepted, message_age_s
 from atcs.model.curves import FAR_M, MIN_SPAN
 from atcs.model.node import Node, Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
@@ -118,7 +120,11 @@ class AuthorityInputs(Generic[N, B]):
     """Its min speed (estimate less accuracy) when it was sent."""
     zone_active: B
     zone_start_m: N
-    """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2)."""
+    """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2), from its last status accepted
+    (:mod:`atcs.model.ats_status`)."""
+    ats_status_fresh: B
+    """The ATS's status is fresh; if not, a zone or a restriction set since may be unknown, so the authority ends
+    at the max safe front."""
 
 
 @dataclass(frozen=True)
@@ -168,9 +174,17 @@ def report_usable(o: Ops, i: AuthorityInputs):
 def report_accepted(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs):
     """This cycle's report is usable, numbered after the last one accepted and stamped no later than the onboard
     clock plus the skew: a sign the link is alive (module docstring)."""
-    in_sequence = o.or_(o.not_(s.leader_known), i.report_seq > s.last_seq)
-    not_from_future = i.report_sent_s <= i.now_s + p.clock_skew_max_s
-    return o.and_(report_usable(o, i), in_sequence, not_from_future)
+    return message_accepted(
+        o,
+        s.leader_known,
+        s.last_seq,
+        i.report_delivered,
+        i.report_intact,
+        i.report_seq,
+        i.report_sent_s,
+        i.now_s,
+        p.clock_skew_max_s,
+    )
 
 
 def leader_reports(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityInputs) -> AuthorityState:
@@ -193,7 +207,7 @@ def leader_reports(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityIn
 
 def report_age_s(o: Ops, p: AuthorityParams, r: AuthorityState, now_s):
     """The longest time since the freshest report accepted was sent: the clocks may differ by the skew."""
-    return now_s - r.freshest_sent_s + p.clock_skew_max_s
+    return message_age_s(now_s, r.freshest_sent_s, p.clock_skew_max_s)
 
 
 def leader_limit_m(o: Ops, p: AuthorityParams, r: AuthorityState, now_s):
@@ -229,7 +243,8 @@ def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityIn
     reports = leader_reports(o, p, s, i)
     leader = leader_limit_m(o, p, reports, i.now_s)
     zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))
-    eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)
+    status = o.ite(i.ats_status_fresh, o.const(FAR_M), i.front_max_m)
+    eoa = o.min(d_locked, leader, zone, status, p.line_end_m, i.front_max_m + p.max_ma_m)
     accepted = report_accepted(o, p, s, i)
     age = report_age_s(o, p, reports, i.now_s)
     return reports, AuthorityOutputs(request, release, switch_command, d_request, d_locked, accepted, age, leader, eoa)

@@ -10,6 +10,7 @@ import fnmatch
 
 from atcs.properties import (
     adhesion,
+    ats_status,
     authority,
     ceiling_offset,
     closed_loop,
@@ -53,6 +54,7 @@ PROPERTIES: dict[str, Property] = _register(
     position.PROPERTIES,
     resources.PROPERTIES,
     authority.PROPERTIES,
+    ats_status.PROPERTIES,
     separation.PROPERTIES,
     doors.PROPERTIES,
     ceiling_offset.PROPERTIES,

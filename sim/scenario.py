@@ -71,6 +71,7 @@ FAULTS = {
     "the doors",
     "brake_fade": "the brakes (emergency and service) deliver `factor` times the train data's deceleration (e.g. "
     "0.8: fade, low adhesion)",
+    "ats_status_lost": "the ATS's status messages (protection zones, temporary restrictions) do not reach the train",
     "clock_drift": "the train's clock runs `factor` times as fast as true time (e.g. 1.05, or 0.95: slow)",
 }
 """Fault kinds a train may carry for a time window, and what each does."""
@@ -197,6 +198,8 @@ class Scenario:
     ato_speed_margin_kmh: Fraction = Fraction(0)
     clock_skew_s: Fraction = Fraction(0)
     """The largest difference between two trains' clocks the ATP allows for when it ages a T2T report."""
+    status_timeout_s: Fraction = Fraction(2)
+    """The oldest the ATS's status may be for a train to run on it (:mod:`atcs.model.ats_status`)."""
     """The ATO aims this far under the line's limits (seed 002 §4.2: 25 km/h under a 30 km/h limit)."""
     restrictions: tuple[TimedRestriction, ...] = ()
     stations: tuple[Station, ...] = ()
@@ -455,6 +458,17 @@ def _mirrored_stations(
     return (*stations, *reversed(down)), (*platforms, *reversed(mirrored))
 
 
+def _message_timing(atp) -> tuple[Fraction, Fraction, Fraction]:
+    """The T2T reports' and the ATS status's time-outs, and the clock skew allowed for, each below its time-out."""
+    report_timeout_s = atp.number("report_timeout_s", positive=True, maximum=MAX_DURATION_S)
+    status_timeout_s = atp.number("status_timeout_s", report_timeout_s, positive=True, maximum=MAX_DURATION_S)
+    clock_skew_s = atp.number("clock_skew_s", 0, minimum=0)
+    for key, timeout in (("report_timeout_s", report_timeout_s), ("status_timeout_s", status_timeout_s)):
+        if clock_skew_s >= timeout:
+            atp.fail("clock_skew_s", f"must be below {key} ({timeout}): every message would be stale")
+    return report_timeout_s, status_timeout_s, clock_skew_s
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file (:class:`ScenarioError` on anything malformed)."""
     source = str(path)
@@ -524,6 +538,7 @@ def load_scenario(path: str | Path) -> Scenario:
             "mode",
             "safety_margin_m",
             "report_timeout_s",
+            "status_timeout_s",
             "clock_skew_s",
             "tag_window_m",
             "tacho_error",
@@ -538,10 +553,7 @@ def load_scenario(path: str | Path) -> Scenario:
     if not isinstance(reference, bool):
         ato.fail("reference_profile", "must be true or false")
     tacho_error = atp.number("tacho_error", minimum=0)
-    report_timeout_s = atp.number("report_timeout_s", positive=True, maximum=MAX_DURATION_S)
-    clock_skew_s = atp.number("clock_skew_s", 0, minimum=0)
-    if clock_skew_s >= report_timeout_s:
-        atp.fail("clock_skew_s", f"must be below report_timeout_s ({report_timeout_s}): every report would be stale")
+    report_timeout_s, status_timeout_s, clock_skew_s = _message_timing(atp)
     if tacho_error >= 1:
         atp.fail("tacho_error", "must be below 1")
     rows = top.rows("trains")
@@ -576,6 +588,7 @@ def load_scenario(path: str | Path) -> Scenario:
         brick_wall=atp.text("mode", "relative_braking", ("relative_braking", "brick_wall")) == "brick_wall",
         safety_margin_m=atp.number("safety_margin_m", minimum=0, maximum=MAX_LINE_M),
         report_timeout_s=report_timeout_s,
+        status_timeout_s=status_timeout_s,
         clock_skew_s=clock_skew_s,
         tag_window_m=atp.number("tag_window_m", minimum=0),
         tacho_error=tacho_error,

@@ -37,6 +37,7 @@ import dataclasses
 from collections.abc import Callable
 from fractions import Fraction
 
+from atcs.model.ats_status import ATS_STATUS, AtsStatusInputs, AtsStatusParams, AtsStatusState
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.doors import DoorParams
 from atcs.model.dynamic_profile import Horizon, supervise_position
@@ -69,12 +70,14 @@ CORRUPTED_BIT = (1 << (8 * REPORT_BYTES - 1 - 95)).to_bytes(REPORT_BYTES, "big")
 the leader 167.77 km further on."""
 ROUTE_FIELDS = ("resource_start_m", "resource_end_m", "resource_is_switch", "switch_needs_reverse")
 AUTHORITY_PROPERTIES = registered_properties(AUTHORITY)
+ATS_STATUS_PROPERTIES = registered_properties(ATS_STATUS)
 RESOURCE_PROPERTIES = registered_properties(RESOURCES)
 
 
 POSITION_AT_POWER_UP = PositionState(False, 0.0, 0.0, 0.0, False)
 """The onboard states at power-up (and after an ``atp_reset``): no position, no leader known, EB latched."""
 AUTHORITY_AT_POWER_UP = AuthorityState(False, *(Fraction(0),) * 4)
+ATS_STATUS_AT_POWER_UP = AtsStatusState(False, Fraction(0), Fraction(0), False, Fraction(0))
 SUPERVISION_AT_POWER_UP = SupervisionState(eb_latched=True, sb_latched=False)
 
 
@@ -231,6 +234,8 @@ class Simulation:
             position=Monitor(POSITION, float_record(pos), POSITION_AT_POWER_UP),
             authority=AUTHORITY_AT_POWER_UP,
             authority_params=authority,
+            ats_status=ATS_STATUS_AT_POWER_UP,
+            ats_status_params=AtsStatusParams(s.status_timeout_s, s.clock_skew_s),
             supervision=SUPERVISION_AT_POWER_UP,
             front_m=float(spec.front_m),
             speed_mps=0.0,
@@ -315,11 +320,12 @@ class Simulation:
 
     def _restrictions(self, t: float) -> None:
         """The ATS's temporary restrictions: each train's MRSP is updated where one comes into force or ends
-        (seed 002 §3.2's incremental update, :class:`~atcs.model.restrictions.SpeedRestrictions`)."""
+        (seed 002 §3.2's incremental update, :class:`~atcs.model.restrictions.SpeedRestrictions`), once the ATS's
+        status reaches the train (a train that stops hearing it is stopped, AUT-17)."""
         line = self.scenario.line_m
         for j, r in enumerate(self.scenario.restrictions):
             active = r.active_at(t)
-            for train in self.trains:
+            for train in (train for train in self.trains if self._ats_status_delivered(train, t)):
                 changed = False
                 for n in range(self.laps):
                     name = f"restriction {j}" + (f", lap {n}" if n else "")
@@ -414,12 +420,13 @@ class Simulation:
         if train.spec.fault("atp_reset", t):
             self._power_up(train)
         pos = self._locate(train, t)
-        auth, lo, report_status = self._authority(train, pos, leader, leader_ahead_m, k, t)
+        auth, lo, report_status, ats_fresh = self._authority(train, pos, leader, leader_ahead_m, k, t)
         eoa_m = float(auth.eoa_m)
         commands, curves = self._supervise(train, pos, eoa_m, t)
         target, traction = self._drive(train, pos, eoa_m, curves, commands, t)
         self._record(train, pos, eoa_m, curves, target, commands, traction, t)
         train.last["leader_report"] = report_status
+        train.last["ats_status"] = "fresh" if ats_fresh else "stale"
         report = None
         if self._rear_confirmed(train, pos, t):
             train.reports_sent += 1
@@ -449,6 +456,7 @@ class Simulation:
         theirs."""
         train.position.state = POSITION_AT_POWER_UP
         train.authority = AUTHORITY_AT_POWER_UP
+        train.ats_status = ATS_STATUS_AT_POWER_UP
         train.supervision = SUPERVISION_AT_POWER_UP
         train.sensor_excess_m = 0.0
 
@@ -496,10 +504,10 @@ class Simulation:
     def _authority(self, train: TrainRun, pos, leader: TrainRun | None, leader_ahead_m: float, k: int, t: float):
         """Step 2, movement authority on the window of the route the train needs, on exact numbers (the float
         rounding of a stopping point would break the authority properties by an ulp): returns the node's outputs,
-        the window's first resource and what became of the leader's report (the trace's ``leader_report``:
+        the window's first resource, what became of the leader's report (the trace's ``leader_report``:
         ``none`` delivered, ``accepted``, ``corrupt``, or ``out_of_sequence``: replayed, overtaken or stamped in
-        the future)."""
-        zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
+        the future) and whether the ATS's status is fresh (the trace's ``ats_status``)."""
+        ats = self._ats_status(train, pos, t)
         received = None
         if leader is not None and leader.report is not None:
             received = decode_report(leader.report, expected_sender_id=self.trains.index(leader) + 1)
@@ -528,8 +536,9 @@ class Simulation:
                 report_sent_s=report.sent_s,
                 report_rear_m=report.rear_m + Fraction(leader_ahead_m),
                 report_speed_mps=report.speed_mps,
-                zone_active=bool(zones),
-                zone_start_m=Fraction(min(zones) if zones else 0),
+                zone_active=ats.zone_active,
+                zone_start_m=ats.zone_start_m,
+                ats_status_fresh=ats.status_fresh,
             ),
             AUTHORITY_PROPERTIES,
             self.step_count,
@@ -541,7 +550,37 @@ class Simulation:
         status = "none"
         if received is not None:
             status = "accepted" if auth.report_accepted else "out_of_sequence" if received.intact else "corrupt"
-        return auth, lo, status
+        return auth, lo, status, bool(ats.status_fresh)
+
+    def _ats_status(self, train: TrainRun, pos, t: float):
+        """The ATS's status as the train receives it this cycle (:data:`~atcs.model.ats_status.ATS_STATUS` on
+        exact numbers): the ATS sends it every cycle, numbered by the cycle and stamped by the true time (the
+        ATS's clock), with the first active protection zone ahead of the train's rear; an ``ats_status_lost``
+        fault loses it."""
+        zones = [x for x in self._zone_starts(t) if x > pos.rear_min_m]
+        train.ats_status, out = check_step(
+            ATS_STATUS,
+            train.ats_status_params,
+            train.ats_status,
+            AtsStatusInputs(
+                now_s=self.onboard_clock_s(train),
+                status_delivered=self._ats_status_delivered(train, t),
+                status_intact=True,
+                status_seq=Fraction(self.step_count + 1),
+                status_sent_s=self.clock_s,
+                status_zone_active=bool(zones),
+                status_zone_start_m=Fraction(min(zones) if zones else 0),
+            ),
+            ATS_STATUS_PROPERTIES,
+            self.step_count,
+            ops=EXACT,
+        )
+        return out
+
+    @staticmethod
+    def _ats_status_delivered(train: TrainRun, t: float) -> bool:
+        """The ATS's status reaches the train this cycle (with its temporary restrictions)."""
+        return train.spec.fault("ats_status_lost", t) is None
 
     def _throw_switch(self, r: int, reverse: bool, t: float) -> None:
         """The object controller starts throwing switch ``r`` to ``reverse`` (or normal): it reports it unlocked

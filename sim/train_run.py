@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 
+from atcs.model.ats_status import AtsStatusParams, AtsStatusState
 from atcs.model.authority import AuthorityParams, AuthorityState
 from atcs.model.doors import DcuState, DoorParams
 from atcs.model.errors import AtcsViolation
@@ -51,6 +52,8 @@ class TrainRun:
     authority: AuthorityState
     authority_params: AuthorityParams
     """The whole route's; each cycle the node runs on the window the train needs (:meth:`Simulation._window`)."""
+    ats_status: AtsStatusState
+    ats_status_params: AtsStatusParams
     supervision: SupervisionState
     front_m: float
     speed_mps: float

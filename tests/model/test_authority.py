@@ -6,7 +6,7 @@ from fractions import Fraction
 
 import pytest
 
-from atcs.model import authority
+from atcs.model import ats_status, authority
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.ops.exact import EXACT
 from atcs.model.route import RouteError, read_route, route
@@ -15,7 +15,7 @@ from atcs.properties import PROPERTIES
 
 AUTHORITY_PROPERTIES = [p for p in PROPERTIES.values() if p.node is AUTHORITY]
 
-_EOA = "eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)"
+_EOA = "eoa = o.min(d_locked, leader, zone, status, p.line_end_m, i.front_max_m + p.max_ma_m)"
 
 # property -> (function, text in it, faulty replacement)
 MUTANTS = {
@@ -33,6 +33,8 @@ MUTANTS = {
     ),
     "authority.before_protection_zone": (authority.authority_step, _EOA, _EOA.replace("zone, ", "")),
     "authority.within_line_and_max_ma": (authority.authority_step, _EOA, _EOA.replace("p.line_end_m, ", "")),
+    # a stale ATS status not acted on: a zone set since may be run into
+    "authority.stopped_on_stale_status": (authority.authority_step, _EOA, _EOA.replace("status, ", "")),
     # the stopping point's bound kept for the limit even in brick-wall mode
     "authority.behind_leader": (
         authority.leader_limit_m,
@@ -100,15 +102,15 @@ MUTANTS = {
     ),
     # a report numbered as the last one accepted taken again: a replay is accepted
     "authority.replayed_report_not_fresh": (
-        authority.report_accepted,
-        "i.report_seq > s.last_seq",
-        "i.report_seq >= s.last_seq",
+        ats_status.message_accepted,
+        "seq > last_seq",
+        "seq >= last_seq",
     ),
     # the clock skew counted twice over: a report stamped in the future is accepted
     "authority.future_report_not_fresh": (
-        authority.report_accepted,
-        "i.report_sent_s <= i.now_s + p.clock_skew_max_s",
-        "i.report_sent_s <= i.now_s + p.clock_skew_max_s + p.clock_skew_max_s",
+        ats_status.message_accepted,
+        "sent_s <= now_s + clock_skew_max_s",
+        "sent_s <= now_s + clock_skew_max_s + clock_skew_max_s",
     ),
     # a resource ending exactly at the min safe rear kept
     "resources.release_when_behind_rear": (
@@ -195,6 +197,7 @@ def _inputs(**changes) -> AuthorityInputs:
         report_speed_mps=Fraction(20),
         zone_active=False,
         zone_start_m=Fraction(0),
+        ats_status_fresh=True,
     )
     return AuthorityInputs(**{**base, **changes})
 
@@ -280,6 +283,7 @@ class TestWorkedExample:
 
     def test_protection_zone_end_of_line_and_max_ma(self):
         assert _eoa(inputs=_inputs(zone_active=True, zone_start_m=Fraction(1000))).eoa_m == 1000
+        assert _eoa(inputs=_inputs(ats_status_fresh=False)).eoa_m == 300, "stale: stop at the max safe front"
         assert _eoa(inputs=_inputs(report_delivered=False)).eoa_m == 1800  # front 300 + MAX_MA 1500
         assert _eoa(inputs=_inputs(report_delivered=False, front_max_m=Fraction(1600))).eoa_m == 2900
 

@@ -23,6 +23,10 @@ ZONE_IGNORED = mutant_node(
     AUTHORITY, "zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))", "zone = o.const(FAR_M)"
 )
 """The authority node with the protection zone ignored."""
+STALE_STATUS_IGNORED = mutant_node(
+    AUTHORITY, "status = o.ite(i.ats_status_fresh, o.const(FAR_M), i.front_max_m)", "status = o.const(FAR_M)"
+)
+"""The authority node running on a stale ATS status."""
 SEED000 = ("seed000_normal", "seed000_service_brake_disabled", "seed000_slow_leader", "seed000_protection_zone")
 SEED002 = ("seed002_speed_restriction", "seed002_protection_zone")
 FAULT_LINE = """name = "faults"
@@ -65,6 +69,17 @@ dwell_s = 20
 [platforms]
 table = [{ start_m = 2195, length_m = 220, side = "left" }]
 """
+
+ATS_LINE = """[[zones]]
+start_m = {zone_m}
+from_s = 25
+[[restrictions]]
+start_m = 1850
+end_m = 2300
+kmh = 20
+from_s = 25"""
+"""A protection zone and a restriction the ATS sets at 25 s."""
+ATS_LOST = 'faults = [{ kind = "ats_status_lost", from_s = 20, until_s = 40 }]'
 
 LOOP = """name = "loop"
 seed = "002 §4.2"
@@ -540,6 +555,30 @@ class TestFaults:
         assert follower.speed_mps == 0 and 0 < wagons_rear_m - follower.front_m < 200
         assert follower.stats.min_gap_m > 100
 
+    def test_a_lost_ats_status_stops_the_train_until_heard_again(self, tmp_path):
+        """The leader stops hearing the ATS at 20 s, running at 59 km/h; at 25 s the ATS sets a protection zone from
+        1,900 m and a 20 km/h restriction from 1,850 m, neither of which reaches it. Its status goes stale one
+        timeout (2 s) after the last one heard: the MA ends at its front, EB, a standstill short of the zone. Heard
+        again at 40 s, the zone and the restriction reach it together and it runs on to the zone's start."""
+        path = tmp_path / "ats.toml"
+        line = ATS_LINE.format(zone_m=1900)
+        path.write_text(FAULT_LINE.format(leader=ATS_LOST, line=line, duration_s=70))
+        records, restricted = [], []
+
+        def on_cycle(sim):
+            records.append([dict(t.last) for t in sim.trains])
+            restricted.append("restriction 0" in sim.trains[0].restrictions.active)
+
+        sim = Simulation(load_scenario(path), on_cycle=on_cycle)
+        sim.run()
+        leader = [r[0] for r in records]
+        stale = [k for k, r in enumerate(leader) if r["ats_status"] == "stale"]
+        assert (stale[0], stale[-1]) == (220, 399)  # the last heard at 19.9 s, 2.1 s old at 22.0 s; heard at 40 s
+        assert leader[stale[0]]["eb"] and leader[stale[0]]["eoa_m"] <= leader[stale[0]]["front_max_m"]
+        assert leader[399]["speed_kmh"] == 0 and leader[399]["front_m"] < 1850
+        assert restricted.index(True) == 400  # the restriction (set at 25 s) reached it with the status
+        assert max(r["front_m"] for r in leader) < 1900 and sim.trains[0].stats.emergency_brakes == 1
+
     def test_brake_fade_within_the_guaranteed_braking_still_stops_short(self, tmp_path):
         """Stuck traction and brakes at 80 % of the train data: EB, braking at what the curves guarantee (the
         confidence factors), still stops the train short of the zone. At 70 % the brake is weaker than the proofs'
@@ -737,6 +776,20 @@ class TestChecks:
         with pytest.raises(PropertyViolation) as caught:
             Simulation(load_scenario(resolve("seed000_protection_zone"))).run()
         assert caught.value.prop.name == "authority.before_protection_zone"
+
+    def test_an_authority_deaf_to_a_stale_status_is_caught(self, tmp_path, monkeypatch):
+        """The authority node running on when the ATS's status is stale: the monitor stops the run on AUT-17; with
+        that check off, the leader runs into the zone the lost status would have set."""
+        path = tmp_path / "ats.toml"
+        path.write_text(FAULT_LINE.format(leader=ATS_LOST, line=ATS_LINE.format(zone_m=1900), duration_s=40))
+        monkeypatch.setattr(simulator, "AUTHORITY", STALE_STATUS_IGNORED)
+        with pytest.raises(PropertyViolation) as caught:
+            Simulation(load_scenario(path)).run()
+        assert caught.value.prop.name == "authority.stopped_on_stale_status"
+        unchecked = tuple(p for p in simulator.AUTHORITY_PROPERTIES if p.name != caught.value.prop.name)
+        monkeypatch.setattr(simulator, "AUTHORITY_PROPERTIES", unchecked)
+        with pytest.raises(SafetyViolation, match="entered the protection zone at 1900 m"):
+            Simulation(load_scenario(path)).run()
 
     def test_the_zone_check_itself(self):
         scenario = load_scenario(resolve("seed000_protection_zone"))

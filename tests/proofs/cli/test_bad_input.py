@@ -210,7 +210,7 @@ def test_a_curves_option_out_of_range_is_refused(tmp_path, argv, message, capsys
         (
             "report_timeout_s = 2",
             "report_timeout_s = 2\nclock_skew_s = 2",
-            "atp.clock_skew_s = 2 must be below report_timeout_s (2): every report would be stale",
+            "atp.clock_skew_s = 2 must be below report_timeout_s (2): every message would be stale",
         ),
         ("report_timeout_s = 2", "report_timeout_s = 2\nclock_skew_s = -1", "atp.clock_skew_s = -1 must be at least 0"),
         ("planning_decel_kmhps = 1.5", "planning_decel_kmhps = 99", "ato.planning_decel_kmhps = 99 must be at most 18"),
