@@ -185,6 +185,23 @@ def _front_within_sensor_excess(o, p, s, i, out, nxt):
     )
 
 
+def _genuine_tag_corrects(o, p, s, i, out, nxt):
+    passage_m = nxt.front_m - i.distance_since_tag_m
+    w = p.tag_window_m
+    genuine = [
+        o.and_(
+            o.eq(i.tag_id, p.tag_ids[j]),
+            p.tag_positions_m[j] - w <= passage_m,
+            passage_m <= p.tag_positions_m[j] + w,
+        )
+        for j in range(len(p.tag_ids))
+    ]
+    return o.implies(
+        o.and_(i.tag_read, o.or_(*genuine), _within_tacho_error(o, p, i.distance_since_tag_m, i.since_tag_m)),
+        o.implies(out.position_valid, o.and_(out.front_min_m <= nxt.front_m, nxt.front_m <= out.front_max_m)),
+    )
+
+
 def _misread_tag_bounded(o, p, s, i, out, nxt):
     positions, n = p.tag_positions_m, len(p.tag_positions_m)
     cases = []
@@ -349,6 +366,18 @@ PROPERTIES = (
         _front_within_sensor_excess,
         (TABLE,),
         seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
+    ),
+    _property(
+        "genuine_tag_corrects",
+        "POS-24",
+        "A wrong position, however it came (a wrong or misplaced tag, a tachometer fault, an unconfirmed position "
+        "set far off), is caught or corrected at the next genuine tag read: a read of a table id whose passage is "
+        "reported within the tag window of that tag, with the tachometer within its error since the passage, "
+        "either invalidates the position or leaves the true front within the new interval, whatever came before.",
+        _genuine_tag_corrects,
+        (TABLE,),
+        ("front_within_sensor_excess",),
+        seed="001 §3.2 (Fig. 7), 002 §3.1",
     ),
     _property(
         "misread_tag_bounded",

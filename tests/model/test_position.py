@@ -61,6 +61,12 @@ MUTANTS = {
         "offset = o.ite(reset, i.since_tag_m, offset)",
         "offset = o.ite(reset, zero, offset)",
     ),
+    # the interval still counted from the previous reference tag after a read: the new tag corrects nothing
+    "position.genuine_tag_corrects": (
+        position.position_step,
+        "ref = o.select(p.tag_positions_m, lrt_index)",
+        "ref = o.select(p.tag_positions_m, s.lrt_index)",
+    ),
     # the window check with a tag window of slack on each side: a wrong tag accepted further off
     "position.misread_tag_bounded": (
         position.position_step,
