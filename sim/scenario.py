@@ -84,10 +84,11 @@ FAULT_FIELDS = {
     "brake_fade": {"factor": None},
 }
 """Each fault's own fields, with their defaults (None: required)."""
-FAULT_FIELD_MAXIMUM = {"factor": 10, "delay_s": MAX_DURATION_S}
-"""The largest value of a fault's own field: a tachometer or clock off by more than 10 times, or a report late by
-more than a day, is no fault a run can show more of (and a clock 10 times fast keeps a day's time stamps within
-the report's 32-bit milliseconds)."""
+FAULT_FIELD_MAXIMUM = {"factor": 10, "delay_s": MAX_DURATION_S, ("brake_fade", "factor"): 1}
+"""The largest value of a fault's own field (by field, or by kind and field): a tachometer or clock off by more
+than 10 times, or a report late by more than a day, is no fault a run can show more of (and a clock 10 times fast
+keeps a day's time stamps within the report's 32-bit milliseconds); a brake delivering more than its train data is
+no fade."""
 
 
 class ScenarioError(AtcsInputError):
@@ -341,7 +342,8 @@ def _train(
         f = _Reader(source, fault, where, ("kind", "from_s", "until_s", *own))
         value = None
         for key, default in own.items():
-            value = f.number(key, default, positive=True, maximum=FAULT_FIELD_MAXIMUM.get(key))
+            maximum = FAULT_FIELD_MAXIMUM.get((kind, key), FAULT_FIELD_MAXIMUM.get(key))
+            value = f.number(key, default, positive=True, maximum=maximum)
             if key == "tag_id" and value.denominator != 1:
                 f.fail(key, "must be a whole number (a tag's id)")
         faults.append(Fault(kind, *_window(f), value))

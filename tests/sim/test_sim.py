@@ -762,6 +762,7 @@ class TestFaults:
         for fault, message in [
             ('{ kind = "tacho_drift", from_s = 0 }', "faults[0].factor is missing"),
             ('{ kind = "tacho_drift", factor = 0, from_s = 0 }', "faults[0].factor = 0 must be positive"),
+            ('{ kind = "brake_fade", factor = 1.2, from_s = 0 }', "faults[0].factor = 1.2 must be at most 1"),
             ('{ kind = "missed_tag", factor = 2 }', "faults[0].factor: unknown field"),
         ]:
             path = tmp_path / "bad.toml"
