@@ -673,7 +673,8 @@ class TestFaults:
     def test_a_drifting_clock_makes_the_reports_no_sign_of_life(self, tmp_path, fast):
         """The leader's clock running 5 % fast, or the follower's 5 % slow, from 30 s: once the leader's time
         stamps are ahead of the follower's clock (no skew allowed), its reports renew nothing, the time-out
-        passes and the MA ends the margin behind the rear they report (brick wall; their bounds stay true)."""
+        passes and the MA ends the margin behind the rear they report (brick wall; their bounds stay true). A slow
+        follower's clock puts the ATS's time stamps ahead of it too: its ATS status goes stale and it stops."""
         drift = 'faults = [{ kind = "clock_drift", factor = FACTOR, from_s = 30 }]'
         if fast == "leader":
             sim, records = _fault_run(tmp_path, leader=drift.replace("FACTOR", "1.05"))
@@ -685,7 +686,12 @@ class TestFaults:
         assert {r[1]["leader_report"] for r in records[340:600]} == {"out_of_sequence"}
         length_m = float(sim.trains[0].spec.data.train_length_m)
         assert all(r[1]["eoa_m"] <= r[0]["front_m"] - length_m - 20 for r in records[340:600])
-        assert sim.trains[1].stats.min_gap_m > 0 and sim.trains[1].stats.emergency_brakes == 0
+        stale = [k for k, r in enumerate(records) if r[1]["ats_status"] == "stale"]
+        if fast == "leader":
+            assert sim.trains[1].stats.emergency_brakes == 0 and stale == []
+        else:  # stale once 2 s have passed by its clock since the last status it accepted (sent at 30.0 s)
+            assert stale[0] == 322 and records[322][1]["eb"] and sim.trains[1].speed_mps == 0
+        assert sim.trains[1].stats.min_gap_m > 0
 
     def test_reordered_reports_keep_the_ma_long(self, tmp_path):
         sim, records = _fault_run(tmp_path, leader='faults = [{ kind = "t2t_reorder", from_s = 30, until_s = 60 }]')
