@@ -139,3 +139,12 @@ def test_readme_command_parses(command):
     except (SystemExit, UsageError) as exc:
         pytest.fail(f"{command!r} does not parse: {exc}")
     assert args.command == argv[0]
+
+
+@pytest.mark.parametrize("path", [README, ROOT / "docs" / "property-scope.md"], ids=lambda p: p.name)
+def test_the_property_count_is_current(path):
+    """README and the property scope state how many properties are registered: the registry's count."""
+    from atcs.properties import PROPERTIES
+
+    stated = re.findall(r"(\d+) properties are registered", path.read_text(encoding="utf-8"))
+    assert stated == [str(len(PROPERTIES))], f"{path.name} says {stated}; {len(PROPERTIES)} are registered"
