@@ -70,6 +70,12 @@ class Ops(Protocol[N, B]):
         """``(found, index)``: whether ``key`` is among ``keys``, and the first index where it is (0 if it is
         not). A table lookup such as a tag id to its entry."""
 
+    def first_above(self, keys: Sequence[N], key: N) -> N:
+        """The index of the first of ``keys`` above ``key`` (``len(keys)`` if none): where ``key`` belongs in
+        ascending ``keys``. The lookup of a preprocessed table. Concrete backends bisect, so they agree with the
+        symbolic one (a chain of ``ite`` over every key, any order) only on ascending keys: callers pass keys
+        a property proves ascending."""
+
     def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
         """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.
 

@@ -5,6 +5,8 @@ Used to replay counterexamples and to compute test-vector outputs bit-exactly.
 
 from __future__ import annotations
 
+import bisect
+
 from fractions import Fraction
 
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
@@ -54,6 +56,9 @@ class ExactOps:
             if k == key:
                 return True, Fraction(j)
         return False, Fraction(0)
+
+    def first_above(self, keys, key):
+        return Fraction(bisect.bisect_right(keys, key))
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

@@ -6,6 +6,8 @@ and arrays mix by broadcasting. Used by the simulator and the benchmarks.
 
 from __future__ import annotations
 
+import bisect
+
 import dataclasses
 import sys
 from fractions import Fraction
@@ -118,6 +120,12 @@ class FloatOps:
         table = np.stack(np.broadcast_arrays(*keys, key))
         matches = table[:-1] == table[-1]
         return matches.any(axis=0), matches.argmax(axis=0).astype(float)
+
+    def first_above(self, keys, key):
+        if not _any_array(key, *keys):
+            return float(bisect.bisect_right(keys, key))
+        table = np.stack(np.broadcast_arrays(*keys, key))
+        return (table[:-1] <= table[-1]).sum(axis=0).astype(float)  # ascending keys: the count at or below
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

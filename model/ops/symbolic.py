@@ -221,6 +221,13 @@ class SymbolicOps:
             found, index = z3.Or(match, found), z3.If(match, z3.RealVal(j, context()), index)
         return Bool(found), Real(index)
 
+    def first_above(self, keys, key):
+        k = _term(key)
+        index = z3.RealVal(len(keys), context())
+        for j in range(len(keys) - 1, -1, -1):
+            index = z3.If(_term(keys[j]) > k, z3.RealVal(j, context()), index)
+        return Real(index)
+
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)
         wires = [[_term(k) for k in keys], *([_any_term(v) for v in column] for column in columns)]

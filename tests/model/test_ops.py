@@ -80,6 +80,18 @@ class TestTableLookup:
         with pytest.raises(ValueError, match="find: the table is empty"):
             o.find((), o.const(0))
 
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_first_above_on_ascending_keys(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        keys = tuple(o.const(k) for k in (1, 3, 3, 8))
+        got = [read(o.first_above(keys, o.const(x))) for x in (0, 1, 2, 3, "7.5", 8, 9)]
+        assert got == [0, 1, 1, 3, 3, 4, 4]
+
+    def test_first_above_float_batch(self):
+        index = FLOAT.first_above((1.0, 3.0, 3.0, 8.0), np.array([0.0, 3.0, 7.5, 9.0]))
+        assert index.tolist() == [0.0, 3.0, 3.0, 4.0]
+
     def test_float_batch(self):
         picked = FLOAT.select((5.0, 6.0, 7.0), np.array([0.0, 2.0, 5.0, 1.5]))
         assert picked.tolist() == [5.0, 7.0, 7.0, 7.0]
