@@ -32,6 +32,7 @@ A curve that never constrains speed ``v`` (the target is at or above it) is at
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Generic
 
@@ -151,12 +152,13 @@ def expected_brake(o: Ops, t: TrainData) -> BrakeModel:
     return BrakeModel(t.service_speeds_mps, t.service_decelerations_mps2, o.const(1))
 
 
-def braking_walk(
+def braking_cells(
     o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, target_m, target_speed2, stop_m, stop_speed2
 ):
     """Walk backward from ``(target_m, target_speed2)`` along a braking curve (``brake`` plus the gradient's
     acceleration) until the position reaches ``stop_m`` or the squared speed reaches ``stop_speed2``: returns
-    ``(position, squared speed)``.
+    ``(cells, (position, squared speed))``, ``cells`` giving for each cell visited the position, the squared speed
+    and the deceleration (brake and gradient) as the walk enters it.
 
     Cells are visited from the target backward, speed steps upward in each
     gradient segment (the speed only rises going backward). The first gradient
@@ -165,6 +167,7 @@ def braking_walk(
     speeds, decels, k = brake.speeds_mps, brake.decelerations_mps2, brake.factor
     position, speed2 = target_m, target_speed2
     starts = gradient_c.starts_m
+    cells = []
     for j in reversed(range(len(starts))):
         low = stop_m if j == 0 else o.max(starts[j], stop_m)
         a_gradient = gradient_acceleration_mps2(o, t, gradient_c.values[j])
@@ -172,12 +175,20 @@ def braking_walk(
             a_safe = k * a_brake + a_gradient
             if brake.kn_plus_mps2 is not None:
                 a_safe = a_safe - gradient_correction_mps2(o, brake, step, gradient_c.values[j])
+            cells.append((position, speed2, a_safe))
             top2 = stop_speed2 if step + 1 == len(decels) else o.min(speeds[step + 1] * speeds[step + 1], stop_speed2)
             needed_m = (top2 - speed2) / (o.const(2) * o.max(a_safe, o.const(MIN_SPAN)))
             moved_m = o.max(o.const(0), o.min(needed_m, position - low))
             position = position - moved_m
             speed2 = speed2 + o.const(2) * a_safe * moved_m
-    return position, speed2
+    return cells, (position, speed2)
+
+
+def braking_walk(
+    o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, target_m, target_speed2, stop_m, stop_speed2
+):
+    """:func:`braking_cells`' end: ``(position, squared speed)`` where the walk stops."""
+    return braking_cells(o, t, brake, gradient_c, target_m, target_speed2, stop_m, stop_speed2)[1]
 
 
 def braking_walk_ahead(o: Ops, t: TrainData, brake: BrakeModel, gradient_c: Profile, from_m, from_speed2, stop_speed2):
@@ -210,7 +221,13 @@ def ebd_location_m(o: Ops, t, n, gradient_c: Profile, target: Target, speed_mps)
     position, _ = braking_walk(
         o, t, safe_brake(o, t, n), gradient_c, target.location_m, foot2, o.const(-FAR_M), speed_mps * speed_mps
     )
-    return o.ite(speed_mps <= target.ebd_foot_mps, o.const(FAR_M), position)
+    return above_foot(o, target, speed_mps, position)
+
+
+def above_foot(o: Ops, target: Target, speed_mps, location_m):
+    """``location_m``, where the EBD reaches ``speed_mps``, if the speed is above the curve's foot; FAR_M if not
+    (the EBD never exceeds its foot speed)."""
+    return o.ite(speed_mps <= target.ebd_foot_mps, o.const(FAR_M), location_m)
 
 
 def ebd_speed2_at(o: Ops, t, n, gradient_c: Profile, target: Target, x_m):
@@ -316,12 +333,22 @@ def curve_locations(
     o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
 ) -> CurveLocations:
     """Where each curve of ``target`` reaches ``speed_mps`` with estimated acceleration ``a_est_mps2``."""
+    return curves_from_ebd(
+        o, t, n, target, speed_mps, a_est_mps2, lambda v: ebd_location_m(o, t, n, gradient_c, target, v)
+    )
+
+
+def curves_from_ebd(
+    o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2, ebd_at: Callable
+) -> CurveLocations:
+    """:func:`curve_locations` from ``ebd_at(speed)``, where the target's EBD reaches a speed (walked directly, or
+    looked up in the target's preprocessed table, :mod:`atcs.model.prepared_curves`)."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebi = ebd_location_m(o, t, n, gradient_c, target, v_bec) - d_bec
+    ebi = ebd_at(v_bec) - d_bec
     sbi = ebi - speed_mps * t.t_bs_s
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
-        ebd_m=ebd_location_m(o, t, n, gradient_c, target, speed_mps),
+        ebd_m=ebd_at(speed_mps),
         ebi_m=ebi,
         sbi_m=sbi,
         warning_m=sbi - speed_mps * n.t_warning_s,

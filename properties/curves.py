@@ -27,11 +27,14 @@ from atcs.model.curves import (
     STEPPED_CURVES,
     curve_gradient,
     curve_target,
+    CurveLocations,
+    curve_locations,
     ebd_location_m,
     gui_location_m,
     sbd_location_m,
 )
 from atcs.model.node import as_dict
+from atcs.model.prepared_curves import PREPARED_CURVES, braking_table
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
 from atcs.model.train_data import (
     DESIGN_GRADIENTS_PERMILLE,
@@ -294,6 +297,18 @@ def _ebi_from_brake_build_up(o, p, s, i, out, nxt):
     return o.eq(out.ebi_m, ebd_location_m(o, p, p, curve_gradient(p), curve_target(p), v_bec) - d_bec)
 
 
+def _prepared_equals_direct(o, p, s, i, out, nxt):
+    direct = curve_locations(o, p, p, curve_gradient(p), curve_target(p), i.speed_mps, i.a_est_mps2)
+    top = o.const(MAX_SPEED_KMH) / o.const(KMH_PER_MPS)
+    same = (o.eq(getattr(out, name), getattr(direct, name)) for name in CurveLocations.__dataclass_fields__)
+    return o.implies(o.and_(i.speed_mps <= top, p.target_speed_mps <= top), o.and_(*same))
+
+
+def _table_ascending(o, p, s, i, out, nxt):
+    keys = braking_table(o, p, p, curve_gradient(p), curve_target(p)).exit_speed2
+    return o.and_(*(keys[c] <= keys[c + 1] for c in range(len(keys) - 1)))
+
+
 def sized_node(node, fixed: dict):
     """``node`` with the array sizes of ``fixed`` (itself if they are its own; one node per shape, so a property
     and its lemmas share it)."""
@@ -427,6 +442,34 @@ def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> 
             node=node,
             holds=_ebi_from_brake_build_up,
             assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.prepared_equals_direct_{preset}",
+            requirement="CRV-13",
+            seed="002 §3.2 (preprocessing), 000 §2.4",
+            text=(
+                f"With the {preset} data and the design gradients, a target and a speed up to the highest line "
+                "speed: every curve's location, looked up in the target's EBD table walked once per authority, equals the "
+                "direct walk's, for every target, gradient breakpoints, speed and estimated acceleration."
+            ),
+            node=sized_node(PREPARED_CURVES, fixed),
+            holds=_prepared_equals_direct,
+            assumptions=(TRACK_AND_TARGET, QUERY),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.table_ascending_{preset}",
+            requirement="CRV-14",
+            seed="002 §3.2 (preprocessing)",
+            text=(
+                f"With the {preset} data and the design gradients: the squared speeds at which the EBD's walk "
+                "leaves its cells never fall, so the concrete backends' bisection finds the cell the symbolic "
+                "lookup's chain does."
+            ),
+            node=sized_node(PREPARED_CURVES, fixed),
+            holds=_table_ascending,
+            assumptions=(TRACK_AND_TARGET,),
             fixed_params=fixed,
         ),
         Property(

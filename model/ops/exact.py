@@ -6,7 +6,6 @@ Used to replay counterexamples and to compute test-vector outputs bit-exactly.
 from __future__ import annotations
 
 import bisect
-
 from fractions import Fraction
 
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index

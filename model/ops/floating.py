@@ -7,7 +7,6 @@ and arrays mix by broadcasting. Used by the simulator and the benchmarks.
 from __future__ import annotations
 
 import bisect
-
 import dataclasses
 import sys
 from fractions import Fraction

@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from atcs.model import curves
+from atcs.model import curves, prepared_curves
 from atcs.model.curves import (
     Target,
     adhesion_factor,
@@ -188,9 +188,9 @@ def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
 CURVE_PROPERTIES = select("curves.*")
 
 MUTANTS = {
-    # the indication curve at the permitted curve (atcs mutate's arith_drop at curve_locations:+18)
-    "spacing": [(curves.curve_locations, "permitted - speed_mps * n.t_indication_s", "permitted")],
-    "order": [(curves.curve_locations, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
+    # the indication curve at the permitted curve (atcs mutate's arith_drop in curves_from_ebd)
+    "spacing": [(curves.curves_from_ebd, "permitted - speed_mps * n.t_indication_s", "permitted")],
+    "order": [(curves.curves_from_ebd, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
     "ebi_protects_ebd": [
         # EBI without the brake build-up time
         (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),
@@ -198,14 +198,14 @@ MUTANTS = {
         (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
     "ebd_is_braking_curve": [
-        # the gradient left out of A_safe (atcs mutate's arith_drop at braking_walk:+19)
-        (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
+        # the gradient left out of A_safe (atcs mutate's arith_drop in braking_cells)
+        (curves.braking_cells, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
         # the rotating masses swapped (cmp_flip at gradient_acceleration_mps2:+3)
         (curves.gradient_acceleration_mps2, "gradient_permille >= o.const(0)", "gradient_permille <= o.const(0)"),
     ],
     "sbd_is_service_braking_curve": [
         # the gradient left out of the walk's deceleration (shared with the EBD)
-        (curves.braking_walk, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
+        (curves.braking_cells, "a_safe = k * a_brake + a_gradient", "a_safe = k * a_brake"),
         # the SBD braking with the emergency brake's steps
         (
             curves.expected_brake,
@@ -218,7 +218,7 @@ MUTANTS = {
     "gui_is_normal_service_curve": [
         # the gradient correction Kn left out of A_normal_service
         (
-            curves.braking_walk,
+            curves.braking_cells,
             "a_safe = a_safe - gradient_correction_mps2(o, brake, step, gradient_c.values[j])",
             "a_safe = a_safe",
         ),
@@ -233,6 +233,22 @@ MUTANTS = {
             curves.guided_permitted_location_m,
             "gui_location_m(o, t, g, gradient_c, eoa_m, speed_mps)",
             "o.const(FAR_M)",
+        ),
+    ],
+    "prepared_equals_direct": [
+        # the table's last step with twice the deceleration: the curve looked up nearer its cell's entry
+        (
+            prepared_curves.table_location_m,
+            "rise2 / (o.const(2) * o.select(table.decel_mps2, cell))",
+            "rise2 / o.select(table.decel_mps2, cell)",
+        ),
+    ],
+    "table_ascending": [
+        # the walk's end put first among the search keys
+        (
+            prepared_curves.braking_table,
+            "exit_speed2=(*entry_speed2[1:], end_speed2)",
+            "exit_speed2=(end_speed2, *entry_speed2[1:])",
         ),
     ],
     "ebi_from_brake_build_up": [
@@ -307,14 +323,14 @@ def test_mutant_falsified_and_counterexample_replays(name, mutant):
 
 
 def test_speed_steps_walked_in_order_on_the_stepped_brake():
-    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop at braking_walk:+20): the
+    """The top of each speed step taken from the wrong step (atcs mutate's arith_drop in braking_cells): the
     one-step presets never leave the last step, the three-step design case does (CRV-08)."""
     prop = PROPERTIES["curves.ebd_is_braking_curve_stepped"]
     old, new = "o.min(speeds[step + 1] * speeds[step + 1]", "o.min(speeds[1] * speeds[step + 1]"
     for name in ("curves.ebd_is_braking_curve_seed000", "curves.ebd_is_braking_curve_seed002"):
-        with patched(curves.braking_walk, old, new):
+        with patched(curves.braking_cells, old, new):
             assert prove(PROPERTIES[name], timeout_s=120).status == "proved"
-    with patched(curves.braking_walk, old, new):
+    with patched(curves.braking_cells, old, new):
         result = prove(prop, timeout_s=120)
         assert result.status == "falsified", result.message
         assert reproduce(prop, result.trace).first_violation == result.k
