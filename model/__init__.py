@@ -23,8 +23,8 @@ from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
 from atcs.model.position import POSITION, TACHO_CHECK
-from atcs.model.prepared_curves import PREPARED_CURVES
 from atcs.model.position_loop import POSITION_LOOP
+from atcs.model.prepared_curves import PREPARED_CURVES
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS

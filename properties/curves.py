@@ -25,10 +25,10 @@ from atcs.model.curves import (
     FAR_M,
     GUIDANCE_CURVES,
     STEPPED_CURVES,
-    curve_gradient,
-    curve_target,
     CurveLocations,
+    curve_gradient,
     curve_locations,
+    curve_target,
     ebd_location_m,
     gui_location_m,
     sbd_location_m,
@@ -450,8 +450,8 @@ def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> 
             seed="002 §3.2 (preprocessing), 000 §2.4",
             text=(
                 f"With the {preset} data and the design gradients, a target and a speed up to the highest line "
-                "speed: every curve's location, looked up in the target's EBD table walked once per authority, equals the "
-                "direct walk's, for every target, gradient breakpoints, speed and estimated acceleration."
+                "speed: every curve's location, looked up in the target's EBD table walked once per authority, "
+                "equals the direct walk's, for every gradient breakpoints and estimated acceleration."
             ),
             node=sized_node(PREPARED_CURVES, fixed),
             holds=_prepared_equals_direct,

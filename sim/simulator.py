@@ -11,7 +11,8 @@ Each cycle, trains from the front:
    (its min safe rear and min speed, sent the cycle before), the active protection zones;
 3. speed and distance supervision against the line's MRSP (the PSL of
    :func:`~atcs.model.psl.permanent_speed_limit`) and the EoA
-   (:func:`~atcs.model.dynamic_profile.supervise_position`,
+   (:func:`~atcs.model.prepared_curves.supervise_prepared`: each target's curves tabled when the MA or the MRSP
+   changes, CRV-13;
    :func:`~atcs.model.supervision.supervise`);
 4. the ATO (:func:`~atcs.model.ato.ato_target_speed`, seed 003; seed 000: it follows the
    permitted curve): traction below the target speed while short of the ATP's indication
@@ -40,7 +41,7 @@ from fractions import Fraction
 from atcs.model.ats_status import ATS_STATUS, AtsStatusInputs, AtsStatusParams, AtsStatusState
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.doors import DoorParams
-from atcs.model.dynamic_profile import Horizon, supervise_position
+from atcs.model.dynamic_profile import Horizon
 from atcs.model.node import Stateless
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT, float_record, floats
@@ -48,6 +49,7 @@ from atcs.model.plant import PlantParams
 from atcs.model.platforms import platform_inputs
 from atcs.model.position import POSITION, PositionInputs, PositionState, position_params, tag_table
 from atcs.model.position_loop import sensor_excess_since_tag_m
+from atcs.model.prepared_curves import prepare_horizon, supervise_prepared
 from atcs.model.profile import KMH_PER_MPS, Profile
 from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import HELD, RESOURCES, ResourceInputs, ResourceState
@@ -79,6 +81,11 @@ POSITION_AT_POWER_UP = PositionState(False, 0.0, 0.0, 0.0, False)
 AUTHORITY_AT_POWER_UP = AuthorityState(False, *(Fraction(0),) * 4)
 ATS_STATUS_AT_POWER_UP = AtsStatusState(False, Fraction(0), Fraction(0), False, Fraction(0))
 SUPERVISION_AT_POWER_UP = SupervisionState(eb_latched=True, sb_latched=False)
+
+
+def _same_horizon(horizon: Horizon, train: TrainRun, eoa_m: float) -> bool:
+    """The train's curve tables are still those of its horizon: the same MRSP and gradient, the same EoA."""
+    return horizon.mrsp is train.mrsp and horizon.gradient is train.gradient and horizon.eoa_m == eoa_m
 
 
 class Simulation:
@@ -598,10 +605,15 @@ class Simulation:
         """Step 3, speed and distance supervision against the MRSP and the EoA: returns the commands and the
         curves at the max safe front; counts the interventions once the train has started."""
         spec = train.spec
-        horizon = Horizon(mrsp=train.mrsp, gradient=train.gradient, eoa_m=eoa_m, eoa_speed_mps=0.0)
+        prepared = train.curve_tables
+        if prepared is None or not _same_horizon(prepared.horizon, train, eoa_m):
+            horizon = Horizon(mrsp=train.mrsp, gradient=train.gradient, eoa_m=eoa_m, eoa_speed_mps=0.0)
+            prepared = train.curve_tables = prepare_horizon(
+                FLOAT, train.train_data, train.national, horizon, reuse=prepared
+            )
         a_est = float(train.plant.max_acceleration_mps2)
-        over, curves, _ = supervise_position(
-            FLOAT, train.train_data, train.national, horizon, pos.front_max_m, pos.speed_est_mps, a_est
+        over, curves, _ = supervise_prepared(
+            FLOAT, train.train_data, train.national, prepared, pos.front_max_m, pos.speed_est_mps, a_est
         )
         departed = t >= float(spec.depart_s)
         released = (departed and not train.started) or (

@@ -11,6 +11,7 @@ from atcs.model.authority import AuthorityParams, AuthorityState
 from atcs.model.doors import DcuState, DoorParams
 from atcs.model.errors import AtcsViolation
 from atcs.model.plant import PlantParams
+from atcs.model.prepared_curves import PreparedHorizon
 from atcs.model.profile import Profile
 from atcs.model.restrictions import SpeedRestrictions
 from atcs.model.supervision import SupervisionState
@@ -105,6 +106,9 @@ class TrainRun:
     """The driver has released the power-up emergency brake (at departure)."""
     stopped_s: float | None = None
     """When the train last came to a standstill with EB applied."""
+    curve_tables: PreparedHorizon | None = None
+    """Each target's EBD table for the train's current horizon (its MRSP, gradient and EoA), built when one changes
+    (:mod:`atcs.model.prepared_curves`)."""
     stats: TrainStats = field(default_factory=TrainStats)
     last: dict = field(default_factory=dict)
     """This cycle's values for the trace."""
