@@ -6,8 +6,8 @@ each (:func:`~atcs.model.curves.braking_cells`), in which the squared speed rise
 :func:`braking_table` records the walk once, when the MA, the MRSP or the train data change: where it enters each
 cell, the squared speed there, the cell's deceleration, and the squared speed where it leaves (rising: the search
 keys, CRV-14). Where the curve reaches a speed (:func:`table_location_m`) is then the first cell the walk leaves
-above that speed, as far into it as the rise takes: a bisection in the concrete backends (``Ops.first_above``), the
-same chain of ``ite`` as the direct walk's in the symbolic one. CRV-13 proves every curve's location from the table
+above that speed, as far into it as the rise takes: a bisection (``Ops.first_above``; in the symbolic backend the tree
+of ``ite`` over every path of the search). CRV-13 proves every curve's location from the table
 equal to the direct walk's (:func:`~atcs.model.curves.curve_locations`), for every target, speed and gradient
 breakpoints, per train.
 

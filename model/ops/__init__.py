@@ -71,10 +71,10 @@ class Ops(Protocol[N, B]):
         not). A table lookup such as a tag id to its entry."""
 
     def first_above(self, keys: Sequence[N], key: N) -> N:
-        """The index of the first of ``keys`` above ``key`` (``len(keys)`` if none): where ``key`` belongs in
-        ascending ``keys``. The lookup of a preprocessed table. Concrete backends bisect, so they agree with the
-        symbolic one (a chain of ``ite`` over every key, any order) only on ascending keys: callers pass keys
-        a property proves ascending."""
+        """Python's ``bisect.bisect_right(keys, key)``: for ascending ``keys``, the index of the first one above
+        ``key`` (``len(keys)`` if none). The lookup of a preprocessed table: ``log2(len(keys))`` comparisons in the
+        concrete backends; the symbolic one is the tree of ``ite`` over every path of the search (as many nodes
+        as keys), so all three answer alike for any keys, ascending or not."""
 
     def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
         """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.

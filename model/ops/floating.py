@@ -101,7 +101,7 @@ class FloatOps:
 
     def select(self, values, index):
         check_table("select", values)
-        if not _any_array(index, *values):
+        if not _is_array(index):  # one entry, whatever the others are (an array entry stays an array)
             j = whole_index(index, len(values))
             return values[-1 if j is None else j]
         *columns, index = np.broadcast_arrays(*values, np.asarray(index, dtype=float))
@@ -121,10 +121,21 @@ class FloatOps:
         return matches.any(axis=0), matches.argmax(axis=0).astype(float)
 
     def first_above(self, keys, key):
-        if not _any_array(key, *keys):
-            return float(bisect.bisect_right(keys, key))
-        table = np.stack(np.broadcast_arrays(*keys, key))
-        return (table[:-1] <= table[-1]).sum(axis=0).astype(float)  # ascending keys: the count at or below
+        if not _is_array(key) and not _is_array(keys[0]) and not _is_array(keys[-1]):
+            try:  # an array among the keys makes a comparison ambiguous, so it raises, never misleads
+                return float(bisect.bisect_right(keys, key))
+            except ValueError:
+                pass
+        table = np.stack(np.broadcast_arrays(*keys, key))  # a batch: bisect_right's steps for every train at once
+        keys_, key = table[:-1], table[-1]
+        low, high = np.zeros(key.shape, int), np.full(key.shape, len(keys))
+        while (low < high).any():
+            middle = (low + high) // 2
+            searching = low < high
+            below = key < np.take_along_axis(keys_, np.minimum(middle, len(keys) - 1)[None], axis=0)[0]
+            high = np.where(searching & below, middle, high)
+            low = np.where(searching & ~below, middle + 1, low)
+        return low.astype(float)
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

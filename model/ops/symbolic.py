@@ -222,11 +222,15 @@ class SymbolicOps:
         return Bool(found), Real(index)
 
     def first_above(self, keys, key):
-        k = _term(key)
-        index = z3.RealVal(len(keys), context())
-        for j in range(len(keys) - 1, -1, -1):
-            index = z3.If(_term(keys[j]) > k, z3.RealVal(j, context()), index)
-        return Real(index)
+        k, terms = _term(key), [_term(v) for v in keys]
+
+        def search(low: int, high: int):  # bisect_right's comparisons, every path: a tree of len(keys) nodes
+            if low >= high:
+                return z3.RealVal(low, context())
+            middle = (low + high) // 2
+            return z3.If(k < terms[middle], search(low, middle), search(middle + 1, high))
+
+        return Real(search(0, len(keys)))
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

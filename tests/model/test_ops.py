@@ -1,5 +1,6 @@
 """The Ops backends: semantics each backend must share, and the symbolic backend's refusals."""
 
+import bisect
 from fractions import Fraction
 
 import numpy as np
@@ -87,6 +88,15 @@ class TestTableLookup:
         keys = tuple(o.const(k) for k in (1, 3, 3, 8))
         got = [read(o.first_above(keys, o.const(x))) for x in (0, 1, 2, 3, "7.5", 8, 9)]
         assert got == [0, 1, 1, 3, 3, 4, 4]
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_first_above_is_bisect_right_on_any_keys(self, name):
+        """Not ascending: the search's own answer in every backend, so the backends agree on any data."""
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        for keys, key in [((5, 1, 2), 1), ((5, 1, 2), 6), ((3, 9, 0, 4, 1), 2), ((2,), 2)]:
+            got = read(o.first_above(tuple(o.const(k) for k in keys), o.const(key)))
+            assert got == bisect.bisect_right(keys, key), (keys, key)
 
     def test_first_above_float_batch(self):
         index = FLOAT.first_above((1.0, 3.0, 3.0, 8.0), np.array([0.0, 3.0, 7.5, 9.0]))
