@@ -31,6 +31,7 @@ from atcs.model.curves import (
     CurveQuery,
     Target,
     above_foot,
+    bec_speed_and_distance,
     braking_cells,
     curve_gradient,
     curve_target,
@@ -120,15 +121,32 @@ parameters and query, for CRV-13 and CRV-14."""
 # --- a horizon's tables, for supervision on concrete data ---------------------------------------------------------
 
 
+def table_lowest_decel_mps2(o: Ops, table: BrakingTable):
+    """The table's least deceleration: between two points of the curve, the squared speed rises by at least
+    twice this times the distance (CRV-15)."""
+    return o.min(*table.decel_mps2)
+
+
+def nearest_locations_m(o: Ops, target: Target, lowest_decel_mps2, speed_mps, bec_speed_mps, bec_distance_m):
+    """How near the train any curve of ``target`` can lie at ``speed_mps``: ``(EBD, EBI)`` at least ``location -
+    v^2 / (2 * lowest deceleration)`` for the EBD's speed ``v`` (``V_bec`` for the EBI, less ``D_bec``), CRV-15.
+    A larger ``V_bec`` or ``D_bec``, or a lower deceleration, gives a bound as true."""
+    span = o.const(2) * lowest_decel_mps2
+    ebd_m = target.location_m - speed_mps * speed_mps / span
+    return ebd_m, target.location_m - bec_speed_mps * bec_speed_mps / span - bec_distance_m
+
+
 @dataclass(frozen=True)
 class PreparedHorizon(Generic[N]):
-    """A horizon with every target's table: the MRSP's speed decreases short of the EoA (by location), then the
-    EoA."""
+    """A horizon with every target's table: the MRSP's speed decreases short of the EoA, then the EoA (by
+    location); the least deceleration of any table, and from each target on, the highest target speed."""
 
     horizon: Horizon
     decrease_starts_m: tuple[N, ...]
     targets: tuple[Target, ...]
     tables: tuple[BrakingTable, ...]
+    lowest_decel_mps2: N
+    top_speed_from_mps: tuple[N, ...]
 
 
 def prepare_horizon(
@@ -141,25 +159,58 @@ def prepare_horizon(
     if reuse is not None and reuse.horizon.mrsp is horizon.mrsp and reuse.horizon.gradient is horizon.gradient:
         kept = dict(zip(reuse.targets, reuse.tables, strict=True))
     tables = tuple(kept.get(g) or braking_table(o, t, n, horizon.gradient, g) for g in targets)
-    return PreparedHorizon(horizon, tuple(g.location_m for g in targets[:-1]), targets, tables)
+    top, tops = targets[-1].speed_mps, []
+    for g in reversed(targets):
+        top = o.max(top, g.speed_mps)
+        tops.append(top)
+    return PreparedHorizon(
+        horizon=horizon,
+        decrease_starts_m=tuple(g.location_m for g in targets[:-1]),
+        targets=targets,
+        tables=tables,
+        lowest_decel_mps2=o.min(*(table_lowest_decel_mps2(o, table) for table in tables)),
+        top_speed_from_mps=tuple(reversed(tops)),
+    )
 
 
 def supervise_prepared(
     o: Ops, t: TrainData, n: NationalData, prepared: PreparedHorizon, max_safe_front_m, speed_mps, a_est_mps2
 ) -> tuple[Exceedances, CurveLocations, Ceilings]:
     """:func:`~atcs.model.dynamic_profile.supervise_position` on the tables: the targets ahead of the max safe
-    front (a bisection), each curve located in each one's table."""
+    front (a bisection), nearest first, each curve located in each one's table. Two shortcuts, each exact:
+
+    - a target whose foot speed is at or above both the speed and the largest ``V_bec`` any target ahead gives
+      constrains nothing (its curves lie at FAR_M, less ``D_bec``): it is set aside, and looked up only if no other
+      target puts a curve nearer than FAR_M less the largest ``D_bec``;
+    - the walk over the targets stops once none farther on can lie nearer than the curves found
+      (:func:`nearest_locations_m` with that largest ``V_bec`` and ``D_bec``, those of the highest target speed
+      ahead, and the least deceleration of any table), so only the targets within a braking distance of the
+      nearest constraint are looked up."""
     first = bisect.bisect_right(prepared.decrease_starts_m, max_safe_front_m)
-    ahead = range(first, len(prepared.targets))
-    curve = most_restrictive(
-        o,
-        tuple(
-            prepared_curve_locations(o, t, n, prepared.targets[k], prepared.tables[k], speed_mps, a_est_mps2)
-            for k in ahead
-        ),
-    )
+    targets = prepared.targets
+    fastest = Target(targets[first].location_m, prepared.top_speed_from_mps[first], targets[first].ebd_foot_mps)
+    v_bec, d_bec = bec_speed_and_distance(o, t, n, fastest, speed_mps, a_est_mps2)
+    curve, set_aside = None, []
+    for k in range(first, len(targets)):
+        target = targets[k]
+        if speed_mps <= target.ebd_foot_mps and v_bec <= target.ebd_foot_mps:
+            set_aside.append(k)
+            continue
+        if curve is not None:
+            ebd_m, ebi_m = nearest_locations_m(o, target, prepared.lowest_decel_mps2, speed_mps, v_bec, d_bec)
+            if ebd_m >= curve.ebd_m and ebi_m >= curve.ebi_m:
+                break
+        curve = _nearer(o, curve, prepared_curve_locations(o, t, n, target, prepared.tables[k], speed_mps, a_est_mps2))
+    if curve is None or not (curve.ebd_m < o.const(FAR_M) and curve.ebi_m < o.const(FAR_M) - d_bec):
+        for k in set_aside:
+            found = prepared_curve_locations(o, t, n, targets[k], prepared.tables[k], speed_mps, a_est_mps2)
+            curve = _nearer(o, curve, found)
     ceiling = ceilings(o, n, value_at(o, prepared.horizon.mrsp, max_safe_front_m))
     return exceedances(o, curve, ceiling, max_safe_front_m, speed_mps), curve, ceiling
+
+
+def _nearer(o: Ops, curve: CurveLocations | None, found: CurveLocations) -> CurveLocations:
+    return found if curve is None else most_restrictive(o, (curve, found))
 
 
 __all__ = [
@@ -167,8 +218,10 @@ __all__ = [
     "BrakingTable",
     "PreparedHorizon",
     "braking_table",
+    "nearest_locations_m",
     "prepare_horizon",
     "prepared_curve_locations",
     "supervise_prepared",
     "table_location_m",
+    "table_lowest_decel_mps2",
 ]

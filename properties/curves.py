@@ -26,6 +26,7 @@ from atcs.model.curves import (
     GUIDANCE_CURVES,
     STEPPED_CURVES,
     CurveLocations,
+    bec_speed_and_distance,
     curve_gradient,
     curve_locations,
     curve_target,
@@ -34,7 +35,12 @@ from atcs.model.curves import (
     sbd_location_m,
 )
 from atcs.model.node import as_dict
-from atcs.model.prepared_curves import PREPARED_CURVES, braking_table
+from atcs.model.prepared_curves import (
+    PREPARED_CURVES,
+    braking_table,
+    nearest_locations_m,
+    table_lowest_decel_mps2,
+)
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
 from atcs.model.train_data import (
     DESIGN_GRADIENTS_PERMILLE,
@@ -309,6 +315,14 @@ def _table_ascending(o, p, s, i, out, nxt):
     return o.and_(*(keys[c] <= keys[c + 1] for c in range(len(keys) - 1)))
 
 
+def _nearest_bound(o, p, s, i, out, nxt):
+    target = curve_target(p)
+    lowest = table_lowest_decel_mps2(o, braking_table(o, p, p, curve_gradient(p), target))
+    v_bec, d_bec = bec_speed_and_distance(o, p, p, target, i.speed_mps, i.a_est_mps2)
+    ebd_m, ebi_m = nearest_locations_m(o, target, lowest, i.speed_mps, v_bec, d_bec)
+    return o.and_(out.ebd_m >= ebd_m, out.ebi_m >= ebi_m)
+
+
 def sized_node(node, fixed: dict):
     """``node`` with the array sizes of ``fixed`` (itself if they are its own; one node per shape, so a property
     and its lemmas share it)."""
@@ -470,6 +484,21 @@ def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> 
             node=sized_node(PREPARED_CURVES, fixed),
             holds=_table_ascending,
             assumptions=(TRACK_AND_TARGET,),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.table_bounds_nearness_{preset}",
+            requirement="CRV-15",
+            seed="002 §3.2 (preprocessing), 000 §2.4.2",
+            text=(
+                f"With the {preset} data and the design gradients: the EBD lies no nearer than the target's "
+                "location less v^2 / (2 * the least deceleration of the target's table), the EBI no nearer than "
+                "that for V_bec less D_bec: what lets supervision skip the targets beyond a braking distance of "
+                "the nearest constraint."
+            ),
+            node=sized_node(PREPARED_CURVES, fixed),
+            holds=_nearest_bound,
+            assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
         ),
         Property(

@@ -37,7 +37,7 @@ def _is_array(value) -> bool:
 
 def _any_array(*values) -> bool:
     for v in values:  # noqa: SIM110 - a loop is faster than any() over a generator, and this runs millions of times
-        if _is_array(v):
+        if type(v) not in _SCALARS and _is_array(v):  # a plain number checked inline: the common case
             return True
     return False
 
@@ -62,7 +62,7 @@ class FloatOps:
         return bool(value)
 
     def ite(self, cond, then, else_):
-        if _is_array(cond) or _is_array(then) or _is_array(else_):
+        if _any_array(cond, then, else_):
             return np.where(cond, then, else_)
         return then if cond else else_
 

@@ -251,6 +251,10 @@ MUTANTS = {
             "exit_speed2=(end_speed2, *entry_speed2[1:])",
         ),
     ],
+    "table_bounds_nearness": [
+        # the table's greatest deceleration taken for its least: the bound nearer than the curve can lie
+        (prepared_curves.table_lowest_decel_mps2, "o.min(*table.decel_mps2)", "o.max(*table.decel_mps2)"),
+    ],
     "ebi_from_brake_build_up": [
         # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows
         (curves.bec_speed_and_distance, "o.max(zero, t.t_be_s - t.t_traction_s)", "o.max(zero, t.t_be_s)"),
