@@ -127,16 +127,12 @@ def _blocked_ahead(o, p, i, r):
 
 def _locked_end(o, p, s, i, out, nxt):
     """dLockedResource resource by resource: the start of the first blocked resource ahead, else the route's end."""
-    blocked = [_blocked_ahead(o, p, i, r) for r in route_resources(p)]
-    return o.and_(
-        *(
-            o.implies(
-                o.and_(blocked[r], *(o.not_(b) for b in blocked[:r])), o.eq(out.d_locked_m, p.resource_start_m[r])
-            )
-            for r in route_resources(p)
-        ),
-        o.implies(o.and_(*(o.not_(b) for b in blocked)), o.eq(out.d_locked_m, p.resource_end_m[-1])),
-    )
+    claims, none_before = [], o.const_bool(True)  # none of the resources before r blocked
+    for r in route_resources(p):
+        blocked = _blocked_ahead(o, p, i, r)
+        claims.append(o.implies(o.and_(blocked, none_before), o.eq(out.d_locked_m, p.resource_start_m[r])))
+        none_before = o.and_(none_before, o.not_(blocked))
+    return o.and_(*claims, o.implies(none_before, o.eq(out.d_locked_m, p.resource_end_m[-1])))
 
 
 def _bounds_never_lowered(o, p, s, i, out, nxt):

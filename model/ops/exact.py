@@ -30,10 +30,10 @@ class ExactOps:
         return max(first, *rest) if rest else first
 
     def and_(self, *args) -> bool:
-        return all(_truth(a) for a in args)
+        return all(_truths(args))
 
     def or_(self, *args) -> bool:
-        return any(_truth(a) for a in args)
+        return any(_truths(args))
 
     def not_(self, arg) -> bool:
         return not _truth(arg)
@@ -63,6 +63,17 @@ class ExactOps:
         check_columns(keys, columns)
         order = sorted(range(len(keys)), key=keys.__getitem__)
         return tuple(tuple(seq[k] for k in order) for seq in (keys, *columns))
+
+
+_BOOL = frozenset({bool})
+
+
+def _truths(values: tuple) -> tuple:
+    """``values``, every one checked a bool (in C; the loop only to name the first that is not)."""
+    if not _BOOL.issuperset(map(type, values)):
+        for value in values:
+            _truth(value)
+    return values
 
 
 def _truth(value) -> bool:

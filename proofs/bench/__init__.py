@@ -127,24 +127,75 @@ def synthetic_line(line_m: int, rng: np.random.Generator) -> tuple[Profile, Prof
     return as_float(pisl), as_float(ptsl)
 
 
-def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -> np.ndarray:
-    """Seed 001 §3.3's array formulation: ``vSP[i]`` per metre (the lowest profile), then
-    ``MRSP[i] = min(vSP[i - L .. i])``, the window minimum by a sparse table (O(n log L), numpy)."""
-    line_m = int(pisl.end_m)
-    metres = np.arange(line_m)
-    vsp = np.full(line_m, np.inf)
+def _vsp(pisl: Profile, ptsl: Profile) -> np.ndarray:
+    """``vSP[i]`` per metre: the lower of the two profiles."""
+    metres = np.arange(int(pisl.end_m))
+    vsp = np.full(len(metres), np.inf)
     for p in (pisl, ptsl):
         index = np.searchsorted(np.asarray(p.starts_m), metres, side="right") - 1
         vsp = np.minimum(vsp, np.asarray(p.values)[index])
-    for r in restrictions:
-        vsp[int(r.start_m) : int(r.end_m)] = np.minimum(vsp[int(r.start_m) : int(r.end_m)], r.limit_mps)
-    width = int(train_m) + 1
-    table = np.concatenate([np.full(width - 1, np.inf), vsp])
+    return vsp
+
+
+def _window_min(values: np.ndarray, width: int) -> np.ndarray:
+    """``out[i] = min(values[i - width + 1 .. i])`` (fewer at the start), by a sparse table (O(n log width))."""
+    n = len(values)
+    table = np.concatenate([np.full(width - 1, np.inf), values])
     span = 1
     while span * 2 <= width:
         table = np.minimum(table[:-span], table[span:])
         span *= 2
-    return np.minimum(table[:line_m], table[width - span : width - span + line_m])
+    return np.minimum(table[:n], table[width - span : width - span + n])
+
+
+def per_metre_mrsp(pisl: Profile, ptsl: Profile, restrictions, train_m: float) -> np.ndarray:
+    """Seed 001 §3.3's array formulation: ``vSP[i]`` per metre (the lowest profile), then
+    ``MRSP[i] = min(vSP[i - L .. i])``, the window minimum by a sparse table (O(n log L), numpy)."""
+    vsp = _vsp(pisl, ptsl)
+    for r in restrictions:
+        vsp[int(r.start_m) : int(r.end_m)] = np.minimum(vsp[int(r.start_m) : int(r.end_m)], r.limit_mps)
+    return _window_min(vsp, int(train_m) + 1)
+
+
+class PerMetreMrsp:
+    """The per-metre arrays kept between updates, the strongest simple alternative to the incremental model: a
+    restriction applied or withdrawn changes ``vSP`` on it and recomputes ``MRSP`` on ``[start, end + L)`` only,
+    the window the model updates (one restriction at a time: withdrawing restores the permanent ``vSP``)."""
+
+    def __init__(self, pisl: Profile, ptsl: Profile, train_m: float):
+        self.permanent = _vsp(pisl, ptsl)
+        self.vsp = self.permanent.copy()
+        self.width = int(train_m) + 1
+        self.mrsp = _window_min(self.vsp, self.width)
+
+    def _refresh(self, start: int, end: int) -> None:
+        low, high = max(start - self.width + 1, 0), min(end + self.width - 1, len(self.vsp))
+        self.mrsp[start:high] = _window_min(self.vsp[low:high], self.width)[start - low :]
+
+    def apply(self, r: Restriction) -> None:
+        start, end = int(r.start_m), int(r.end_m)
+        self.vsp[start:end] = np.minimum(self.vsp[start:end], r.limit_mps)
+        self._refresh(start, end)
+
+    def withdraw(self, r: Restriction) -> None:
+        start, end = int(r.start_m), int(r.end_m)
+        self.vsp[start:end] = self.permanent[start:end]
+        self._refresh(start, end)
+
+
+def _check_same_mrsp(store: SpeedRestrictions, arrays: PerMetreMrsp, pisl, ptsl, tsr, train_m: float) -> None:
+    """The five methods of :func:`bench_mrsp` compute the same MRSP, compared at every metre with the restriction
+    applied, and the two that keep state after it is withdrawn."""
+    metres = np.arange(int(pisl.end_m), dtype=float)
+    store.apply("tsr", tsr)
+    arrays.apply(tsr)
+    assert store.mrsp() == canonical(restricted(FLOAT, store.psl, (tsr,), train_m))
+    sampled = value_at(FLOAT, store.mrsp(), metres)
+    assert np.array_equal(sampled, per_metre_mrsp(pisl, ptsl, (tsr,), train_m))
+    assert np.array_equal(sampled, arrays.mrsp)
+    store.withdraw("tsr")
+    arrays.withdraw(tsr)
+    assert np.array_equal(value_at(FLOAT, store.mrsp(), metres), arrays.mrsp)
 
 
 def bench_mrsp(console: Console, repeats: int = 5, progress: Progress = lambda done, total: None) -> dict[str, float]:
@@ -180,24 +231,31 @@ def bench_mrsp(console: Console, repeats: int = 5, progress: Progress = lambda d
             per_metre_mrsp(pisl, ptsl, (tsr,), train_m)
             per_metre_mrsp(pisl, ptsl, (), train_m)
 
-        # the four compute the same MRSP (compared at every metre, with the restriction applied)
-        store.apply("tsr", tsr)
-        assert store.mrsp() == canonical(restricted(FLOAT, psl, (tsr,), train_m))
-        sampled = value_at(FLOAT, store.mrsp(), np.arange(line_m, dtype=float))
-        assert np.array_equal(sampled, per_metre_mrsp(pisl, ptsl, (tsr,), train_m))
-        store.withdraw("tsr")
+        arrays = PerMetreMrsp(pisl, ptsl, train_m)
+
+        def per_metre_window(arrays=arrays, tsr=tsr):
+            arrays.apply(tsr)
+            arrays.withdraw(tsr)
+
+        _check_same_mrsp(store, arrays, pisl, ptsl, tsr, train_m)
 
         for name, fn, reps in (
             ("incremental window update (seed 002)", incremental, repeats * 20),
             ("full recomputation from the stored PSL", full_from_psl, repeats),
             ("recomputation from PISL and PTSL", from_scratch, max(1, repeats // 2)),
             ("per-metre arrays, numpy (seed 001)", per_metre, repeats),
+            ("per-metre arrays, window update", per_metre_window, repeats * 20),
         ):
             seconds = _median_time(fn, reps)
             rows.setdefault(name, []).append(seconds)
-            progress(sum(map(len, rows.values())), 8)
+            progress(sum(map(len, rows.values())), 10)
             results[f"{name} @ {scale}x"] = seconds
 
+    _print_mrsp(console, rows, sizes)
+    return results
+
+
+def _print_mrsp(console: Console, rows: dict[str, list[float]], sizes) -> None:
     title = ", ".join(f"{line_m / 1000:g} km: {pisl_n} PISL / {psl_n} PSL segments" for line_m, pisl_n, psl_n in sizes)
     table = Table(title=f"bench mrsp: apply + withdraw a 30 km/h restriction (500 m, 200 m train), median ms\n{title}")
     table.add_column("method")
@@ -215,7 +273,6 @@ def bench_mrsp(console: Console, repeats: int = 5, progress: Progress = lambda d
             f"{t1 / base[0]:.0f}x / {t10 / base[1]:.0f}x",
         )
     console.print(table)
-    return results
 
 
 BENCHMARKS: dict[str, Callable[..., object]] = {

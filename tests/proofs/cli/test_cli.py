@@ -235,9 +235,10 @@ class TestBench:
         assert "numpy batch" in out and "x" in out
 
     def test_mrsp_benchmark_checks_agreement_and_prints_ratios(self, capsys):
-        assert main(["bench", "mrsp"]) == 0  # the benchmark asserts the four methods agree at every metre
+        assert main(["bench", "mrsp"]) == 0  # the benchmark asserts the five methods agree at every metre
         out = capsys.readouterr().out
         assert "incremental window update" in out and "per-metre arrays" in out and "/ incremental" in out
+        assert "window update" in out.split("per-metre arrays, numpy")[1]  # the arrays' own window update too
 
 
 def test_cycle_benchmark_checks_agreement_and_prints_ratios():
@@ -247,11 +248,14 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
 
     console = Console(record=True, width=160)
     reported = []
-    results = bench_cycle(console, cycles=5, prove_closed_loop=False, progress=lambda *at: reported.append(at))
-    assert results["agree"] == results["compared"] == 10
-    assert reported == [(done, 5) for done in range(5)]  # `atcs bench` shows the time left from these
+    results = bench_cycle(
+        console, cycles=5, segment_counts=(5, 20), prove_closed_loop=False, progress=lambda *at: reported.append(at)
+    )
+    assert results["agree"] == results["compared"] == 20  # EBI and SBI of 10 cycles; preprocessed == direct too
+    assert reported == [(done, 10) for done in range(10)]  # `atcs bench` shows the time left from these
+    assert all(results[f"{n}_{k}_s"] > 0 for n in (5, 20) for k in ("prepared", "direct", "per_metre", "prepare"))
     text = console.export_text()
-    assert "share of 100 ms cycle" in text and "per-metre arrays" in text
+    assert "direct / preprocessed" in text and "per-metre arrays" in text and "tables per MA" in text
 
 
 def test_sim_benchmark_prints_the_cost_per_fleet():
