@@ -9,7 +9,7 @@ keys, CRV-14). Where the curve reaches a speed (:func:`table_location_m`) is the
 above that speed, as far into it as the rise takes: a bisection (``Ops.first_above``; in the symbolic backend the tree
 of ``ite`` over every path of the search). CRV-13 proves every curve's location from the table
 equal to the direct walk's (:func:`~atcs.model.curves.curve_locations`), for every target, speed and gradient
-breakpoints, per train.
+breakpoints, for the presets' trains.
 
 :func:`prepare_horizon` tables every target of a horizon; :func:`supervise_prepared` is
 :func:`~atcs.model.dynamic_profile.supervise_position` on it (concrete data, as that one).

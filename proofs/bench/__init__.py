@@ -8,8 +8,6 @@ keyword ``progress`` (:data:`Progress`); the first line of each one's docstring 
 from __future__ import annotations
 
 import inspect
-import statistics
-import time
 from collections.abc import Callable
 from fractions import Fraction
 
@@ -27,20 +25,12 @@ from atcs.model.supervision import SUPERVISION, SupervisionInputs, SupervisionPa
 from atcs.proofs.bench.cycle import bench_cycle
 from atcs.proofs.bench.sim import bench_sim
 from atcs.proofs.bench.sweep import bench_sweep
+from atcs.proofs.bench.timing import median_seconds
 
 CYCLE_S = 0.1  # one ATP cycle (seed 001)
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: how far a benchmark is, in units of its own (``atcs bench`` shows the time left)."""
-
-
-def _median_time(fn: Callable[[], object], repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def _supervision_inputs(trains: int, rng: np.random.Generator):
@@ -94,11 +84,11 @@ def bench_supervision(
     for t in (0, trains // 2, trains - 1):
         assert bool(out.emergency_brake[t]) == step(EXACT, params_batch, state_one, exacts[t])[1].emergency_brake
 
-    t_batch = _median_time(numpy_batch, repeats)
+    t_batch = median_seconds(numpy_batch, repeats)
     progress(1, 3)
-    t_float = _median_time(float_loop, repeats)
+    t_float = median_seconds(float_loop, repeats)
     progress(2, 3)
-    t_exact = _median_time(exact_loop, repeats)
+    t_exact = median_seconds(exact_loop, repeats)
     progress(3, 3)
     table = Table(title=f"bench supervision: one cycle for {trains} trains (median of {repeats})")
     for col in ("backend", "per cycle (ms)", "per train (µs)", "share of 100 ms cycle", "vs numpy batch"):
@@ -246,7 +236,7 @@ def bench_mrsp(console: Console, repeats: int = 5, progress: Progress = lambda d
             ("per-metre arrays, numpy (seed 001)", per_metre, repeats),
             ("per-metre arrays, window update", per_metre_window, repeats * 20),
         ):
-            seconds = _median_time(fn, reps)
+            seconds = median_seconds(fn, reps)
             rows.setdefault(name, []).append(seconds)
             progress(sum(map(len, rows.values())), 10)
             results[f"{name} @ {scale}x"] = seconds

@@ -31,6 +31,7 @@ from atcs.model.prepared_curves import prepare_horizon, supervise_prepared
 from atcs.model.profile import gradient_profile, speed_profile, value_at
 from atcs.model.restrictions import as_float
 from atcs.model.train_data import seed000_train, subset026_national
+from atcs.proofs.bench.timing import median_seconds
 
 CYCLE_S = 0.1
 HORIZON_M = 1500
@@ -91,15 +92,6 @@ class PerMetreCurves:
         }
 
 
-def _median_s(fn: Callable[[], object], repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
 def _same_curves(a: CurveLocations, b: CurveLocations) -> bool:
     return all(abs(getattr(a, f.name) - getattr(b, f.name)) <= 1e-6 for f in fields(CurveLocations))
 
@@ -134,8 +126,8 @@ def bench_cycle(
             done += 1
             prepared = prepare_horizon(FLOAT, t, n, horizon)  # warm-up, and the tables the cycle uses
             arrays = PerMetreCurves(t, n, horizon)
-            timing["prepare"].append(_median_s(lambda h=horizon: prepare_horizon(FLOAT, t, n, h), 1))
-            timing["per_metre_prepare"].append(_median_s(lambda h=horizon: PerMetreCurves(t, n, h), 1))
+            timing["prepare"].append(median_seconds(lambda h=horizon: prepare_horizon(FLOAT, t, n, h), 1))
+            timing["per_metre_prepare"].append(median_seconds(lambda h=horizon: PerMetreCurves(t, n, h), 1))
             fast = supervise_prepared(FLOAT, t, n, prepared, front, speed, a_est)
             slow = supervise_position(FLOAT, t, n, horizon, front, speed, a_est)
             decisions = arrays.cycle(front, speed, a_est)
@@ -154,12 +146,16 @@ def bench_cycle(
                         f"{front} m, speed {speed} m/s"
                     )
             timing["prepared"].append(
-                _median_s(lambda p=prepared, f=front, v=speed: supervise_prepared(FLOAT, t, n, p, f, v, a_est), REPEATS)
+                median_seconds(
+                    lambda p=prepared, f=front, v=speed: supervise_prepared(FLOAT, t, n, p, f, v, a_est), REPEATS
+                )
             )
             timing["direct"].append(
-                _median_s(lambda h=horizon, f=front, v=speed: supervise_position(FLOAT, t, n, h, f, v, a_est), REPEATS)
+                median_seconds(
+                    lambda h=horizon, f=front, v=speed: supervise_position(FLOAT, t, n, h, f, v, a_est), REPEATS
+                )
             )
-            timing["per_metre"].append(_median_s(lambda a=arrays, f=front, v=speed: a.cycle(f, v, a_est), REPEATS))
+            timing["per_metre"].append(median_seconds(lambda a=arrays, f=front, v=speed: a.cycle(f, v, a_est), REPEATS))
             targets.append(len(supervised_targets(FLOAT, n, horizon, front)))
         medians = {k: statistics.median(v) for k, v in timing.items()}
         for key, value in medians.items():
