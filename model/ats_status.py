@@ -10,8 +10,9 @@ pass too). The train keeps the zone of the last status accepted, so a status los
 
 The status is *fresh* while the freshest accepted was sent no longer than ``status_timeout_s`` ago (by its time
 stamp, the onboard clock and the skew). A zone or a restriction set since may be unknown to a stale train, so
-the movement authority then ends at the max safe front (:mod:`atcs.model.authority`): the train stops, and
-stays stopped until a fresh status arrives. The ATS's side of the bargain, outside this model: a zone or a
+while the status is not fresh the zone the train respects starts at its max safe front: the movement authority
+ends there (:mod:`atcs.model.authority`, AUT-03), the train stops, and stays stopped until a fresh status
+arrives. The ATS's side of the bargain, outside this model: a zone or a
 restriction is in force for the track side only once every train has either received it or been stopped, i.e.
 ``status_timeout_s`` plus a train's emergency stopping time after the ATS starts sending it, and no earlier than
 where a train may be by then (docs/property-scope.md).
@@ -65,6 +66,8 @@ class AtsStatusState(Generic[N, B]):
 class AtsStatusInputs(Generic[N, B]):
     now_s: N
     """The onboard clock."""
+    front_max_m: N
+    """The train's max safe front."""
     status_delivered: B
     """A status arrives this cycle."""
     status_intact: B
@@ -85,7 +88,8 @@ class AtsStatusOutputs(Generic[N, B]):
     """The freshest status accepted is no older than the timeout: the train may run on it."""
     zone_active: B
     zone_start_m: N
-    """The protection zone the train respects: the last status accepted's."""
+    """The protection zone the train respects: the last status accepted's while the status is fresh; from the max
+    safe front on while it is not."""
 
 
 def ats_status_init(o: Ops, p: AtsStatusParams, s: AtsStatusState):
@@ -124,7 +128,9 @@ def ats_status_step(o: Ops, p: AtsStatusParams, s: AtsStatusState, i: AtsStatusI
     )
     age = message_age_s(i.now_s, kept.freshest_status_sent_s, p.clock_skew_max_s)
     fresh = o.and_(kept.status_known, age <= p.status_timeout_s)
-    return kept, AtsStatusOutputs(accepted, fresh, kept.kept_zone_active, kept.kept_zone_start_m)
+    zone_active = o.or_(o.not_(fresh), kept.kept_zone_active)
+    zone_start = o.ite(fresh, kept.kept_zone_start_m, i.front_max_m)
+    return kept, AtsStatusOutputs(accepted, fresh, zone_active, zone_start)
 
 
 ATS_STATUS = Node(

@@ -37,8 +37,8 @@ the preceding train's T2T reports, any protection zone and the line data:
   margin. A late report restores no credit, a replayed one none either;
 - the end of authority (dMA) is the least of ``dLockedResource``, the leader's limit,
   the start of an active protection zone (set by the ATS), the end of line and the max
-  safe front + MAX_MA; the target speed there (vMA) is 0. While the ATS's status is not fresh
-  (:mod:`atcs.model.ats_status`), dMA is at most the max safe front: the train stops.
+  safe front + MAX_MA; the target speed there (vMA) is 0. While the ATS's status is not fresh the zone starts
+  at the max safe front (:mod:`atcs.model.ats_status`): the train stops.
 """
 
 from __future__ import annotations
@@ -120,11 +120,8 @@ class AuthorityInputs(Generic[N, B]):
     """Its min speed (estimate less accuracy) when it was sent."""
     zone_active: B
     zone_start_m: N
-    """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2), from its last status accepted
-    (:mod:`atcs.model.ats_status`)."""
-    ats_status_fresh: B
-    """The ATS's status is fresh; if not, a zone or a restriction set since may be unknown, so the authority ends
-    at the max safe front."""
+    """A protection zone set by the ATS (seed 000 §2.5, 002 §4.2), as the ATS's status gives it
+    (:mod:`atcs.model.ats_status`: from the max safe front on while the status is stale)."""
 
 
 @dataclass(frozen=True)
@@ -243,8 +240,7 @@ def authority_step(o: Ops, p: AuthorityParams, s: AuthorityState, i: AuthorityIn
     reports = leader_reports(o, p, s, i)
     leader = leader_limit_m(o, p, reports, i.now_s)
     zone = o.ite(i.zone_active, i.zone_start_m, o.const(FAR_M))
-    status = o.ite(i.ats_status_fresh, o.const(FAR_M), i.front_max_m)
-    eoa = o.min(d_locked, leader, zone, status, p.line_end_m, i.front_max_m + p.max_ma_m)
+    eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)
     accepted = report_accepted(o, p, s, i)
     age = report_age_s(o, p, reports, i.now_s)
     return reports, AuthorityOutputs(request, release, switch_command, d_request, d_locked, accepted, age, leader, eoa)

@@ -69,7 +69,6 @@ class TwoTrainInputs(ClosedLoopInputs[N, B]):
     switch_reversed: tuple[B, ...]
     zone_active: B
     zone_start_m: N
-    ats_status_fresh: B
     now_s: N
     report_delivered: B
     report_intact: B
@@ -107,7 +106,6 @@ def follower_authority(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainI
         report_speed_mps=i.report_speed_mps,
         zone_active=i.zone_active,
         zone_start_m=i.zone_start_m,
-        ats_status_fresh=i.ats_status_fresh,
     )
     return authority_step(o, p, s, inputs)
 

@@ -1,10 +1,10 @@
 """Properties of the ATS's line status as the train receives it (seed 000 §2.5, 002 §3.2 and §4.2; EN 50159).
 
 Over :data:`~atcs.model.ats_status.ATS_STATUS` with every field symbolic: any status delivered or lost, intact or
-corrupted, any number, time stamp, clock, skew and timeout. Each claim is stated from the message's fields, not
-through the node's own acceptance check. Together with AUT-03 (the end of authority before the zone the node
-gives) and AUT-17 (the train stopped while the status is not fresh): a zone is respected from the first status
-accepted that sets it until a newer one lifts it, and a train that stops hearing the ATS stops.
+corrupted, any number, time stamp, clock, skew, timeout and position. Each claim is stated from the message's
+fields, not through the node's own acceptance check. Together with AUT-03 (the end of authority before the zone
+the node gives): a zone is respected from the first status accepted that sets it until a newer one lifts it, and a
+train that stops hearing the ATS stops (ATS-04).
 """
 
 from __future__ import annotations
@@ -39,8 +39,8 @@ def _accepted_sets_zone(o, p, s, i, out, nxt):
         o.not_(_rejected(o, p, s, i)),
         o.and_(
             out.status_accepted,
-            o.eq(out.zone_active, i.status_zone_active),
-            o.eq(out.zone_start_m, i.status_zone_start_m),
+            o.eq(nxt.kept_zone_active, i.status_zone_active),
+            o.eq(nxt.kept_zone_start_m, i.status_zone_start_m),
             o.eq(nxt.last_status_seq, i.status_seq),
         ),
     )
@@ -51,13 +51,19 @@ def _rejected_changes_nothing(o, p, s, i, out, nxt):
         _rejected(o, p, s, i),
         o.and_(
             o.not_(out.status_accepted),
-            o.eq(out.zone_active, s.kept_zone_active),
-            o.eq(out.zone_start_m, s.kept_zone_start_m),
+            o.eq(nxt.kept_zone_active, s.kept_zone_active),
+            o.eq(nxt.kept_zone_start_m, s.kept_zone_start_m),
             o.eq(nxt.status_known, s.status_known),
             o.eq(nxt.last_status_seq, s.last_status_seq),
             o.eq(nxt.freshest_status_sent_s, s.freshest_status_sent_s),
         ),
     )
+
+
+def _zone_respected(o, p, s, i, out, nxt):
+    at_front = o.and_(out.zone_active, o.eq(out.zone_start_m, i.front_max_m))
+    kept = o.and_(o.eq(out.zone_active, nxt.kept_zone_active), o.eq(out.zone_start_m, nxt.kept_zone_start_m))
+    return o.ite(out.status_fresh, kept, at_front)
 
 
 PROPERTIES = (
@@ -75,8 +81,8 @@ PROPERTIES = (
         requirement="ATS-02",
         seed="000 §2.5, 002 §4.2; EN 50159 (sequence number, safety code)",
         text="A status that arrives intact, numbered after the last one accepted (any number for the first) and "
-        "stamped no later than the onboard clock plus the skew is accepted: the zone respected is the one it "
-        "sets, and its number is kept as the last one.",
+        "stamped no later than the onboard clock plus the skew is accepted: the zone kept is the one it sets, "
+        "and its number is kept as the last one.",
         node=ATS_STATUS,
         holds=_accepted_sets_zone,
     ),
@@ -85,11 +91,21 @@ PROPERTIES = (
         requirement="ATS-03",
         seed="000 §2.5; EN 50159 (repetition, resequencing, corruption, delay)",
         text="A status lost, corrupted, replayed or overtaken (numbered at most the last one accepted) or stamped "
-        "in the future is not accepted and changes nothing: the zone respected stays the last accepted status's, "
-        "and the last number and time stamp kept stay as they were, so it cannot lift a zone nor hold off the "
+        "in the future is not accepted and changes nothing: the zone kept stays the last accepted status's, and "
+        "the last number and time stamp kept stay as they were, so it cannot lift a zone nor hold off the "
         "time-out.",
         node=ATS_STATUS,
         holds=_rejected_changes_nothing,
+    ),
+    Property(
+        name="ats_status.stale_status_stops",
+        requirement="ATS-04",
+        seed="000 §2.5, 002 §3.2; EN 50159 (time-out)",
+        text="While the status is fresh the zone the train respects is the one kept; while it is not (a zone or a "
+        "restriction set since may be unknown, power-up included), a zone from the max safe front on: the end of "
+        "authority lies there (AUT-03) and the train stops.",
+        node=ATS_STATUS,
+        holds=_zone_respected,
     ),
 )
 

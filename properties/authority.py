@@ -3,7 +3,7 @@ seed 000 §2.2; seed 002 §4.2).
 
 Over :data:`~atcs.model.authority.AUTHORITY` for a route of 4 resources whose extents,
 kinds and needed directions are symbolic, any position interval, holdings, switch
-reports, T2T report, protection zone and ATS status freshness. Each claim is stated resource by resource
+reports, T2T report and protection zone. Each claim is stated resource by resource
 from the route data, not through the node's own fold.
 """
 
@@ -235,14 +235,6 @@ PROPERTIES = (
         "000 §2.5, 002 §4.2",
         "The end of authority never lies past the start of an active protection zone.",
         lambda o, p, s, i, out, nxt: o.implies(i.zone_active, out.eoa_m <= i.zone_start_m),
-    ),
-    _property(
-        "authority.stopped_on_stale_status",
-        "AUT-17",
-        "000 §2.5, 002 §3.2; EN 50159 (time-out)",
-        "While the ATS's status is not fresh (a zone or a restriction set since may be unknown), the end of "
-        "authority is never past the max safe front: the train stops.",
-        lambda o, p, s, i, out, nxt: o.implies(o.not_(i.ats_status_fresh), out.eoa_m <= i.front_max_m),
     ),
     _property(
         "authority.within_line_and_max_ma",

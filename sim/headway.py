@@ -417,7 +417,6 @@ def _atp_gaps(setting: Setting, speed_mps: Fraction, locked_behind_m=None) -> di
                 report_speed_mps=report_speed,
                 zone_active=False,
                 zone_start_m=zero,
-                ats_status_fresh=True,
             ),
         )
         limit = leader_limit_m(o, p, reports, zero)

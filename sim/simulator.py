@@ -330,7 +330,7 @@ class Simulation:
     def _restrictions(self, t: float) -> None:
         """The ATS's temporary restrictions: each train's MRSP is updated where one comes into force or ends
         (seed 002 §3.2's incremental update, :class:`~atcs.model.restrictions.SpeedRestrictions`), once the ATS's
-        status reaches the train (a train that stops hearing it is stopped, AUT-17)."""
+        status reaches the train (a train that stops hearing it is stopped, ATS-04)."""
         line = self.scenario.line_m
         for j, r in enumerate(self.scenario.restrictions):
             active = r.active_at(t)
@@ -568,7 +568,6 @@ class Simulation:
                 report_speed_mps=report.speed_mps,
                 zone_active=ats.zone_active,
                 zone_start_m=ats.zone_start_m,
-                ats_status_fresh=ats.status_fresh,
             ),
             AUTHORITY_PROPERTIES,
             self.step_count,
@@ -594,6 +593,7 @@ class Simulation:
             train.ats_status,
             AtsStatusInputs(
                 now_s=self.onboard_clock_s(train),
+                front_max_m=Fraction(pos.front_max_m),
                 status_delivered=self._ats_status_delivered(train, t),
                 status_intact=True,
                 status_seq=Fraction(self.step_count + 1),

@@ -21,6 +21,12 @@ MUTANTS = {
         "fresh = o.and_(kept.status_known, age <= p.status_timeout_s)",
         "fresh = kept.status_known",
     ),
+    # a stale status not acted on: a zone set since may be run into
+    "ats_status.stale_status_stops": (
+        ats_status.ats_status_step,
+        "zone_start = o.ite(fresh, kept.kept_zone_start_m, i.front_max_m)",
+        "zone_start = kept.kept_zone_start_m",
+    ),
     # zones only ever added: a newer status cannot lift one
     "ats_status.accepted_status_sets_zone": (
         ats_status.ats_status_step,
@@ -63,6 +69,7 @@ ZONE_AT_900 = AtsStatusState(True, Fraction(50), Fraction(99), True, Fraction(90
 def _status(now_s=100, seq=51, sent_s=Fraction(999, 10), delivered=True, intact=True, zone=None) -> AtsStatusInputs:
     return AtsStatusInputs(
         now_s=Fraction(now_s),
+        front_max_m=Fraction(300),
         status_delivered=delivered,
         status_intact=intact,
         status_seq=Fraction(seq),
@@ -80,6 +87,7 @@ class TestWorkedExample:
     def test_not_fresh_until_a_status_arrives(self):
         _, out = _step(NOTHING, _status(delivered=False))
         assert not out.status_fresh and not out.status_accepted
+        assert (out.zone_active, out.zone_start_m) == (True, 300)  # a zone from the max safe front: stay
         kept, out = _step(NOTHING, _status(seq=7, zone=400))
         assert out.status_fresh and out.status_accepted and (out.zone_active, out.zone_start_m) == (True, 400)
         assert kept.last_status_seq == 7
@@ -93,7 +101,7 @@ class TestWorkedExample:
         _, out = _step(ZONE_AT_900, _status(now_s=Fraction(1009, 10), delivered=False))
         assert out.status_fresh and (out.zone_active, out.zone_start_m) == (True, 900)
         _, out = _step(ZONE_AT_900, _status(now_s=101, delivered=False))
-        assert not out.status_fresh and out.zone_active
+        assert not out.status_fresh and (out.zone_active, out.zone_start_m) == (True, 300)
 
     @pytest.mark.parametrize(
         "why, changes",
@@ -107,4 +115,4 @@ class TestWorkedExample:
     def test_a_status_failing_a_check_is_ignored(self, why, changes):
         kept, out = _step(ZONE_AT_900, _status(now_s=101, **changes))
         assert not out.status_accepted, why
-        assert kept == ZONE_AT_900 and out.zone_active and not out.status_fresh, why
+        assert kept == ZONE_AT_900 and not out.status_fresh and out.zone_start_m == 300, why

@@ -15,7 +15,7 @@ from atcs.properties import PROPERTIES
 
 AUTHORITY_PROPERTIES = [p for p in PROPERTIES.values() if p.node is AUTHORITY]
 
-_EOA = "eoa = o.min(d_locked, leader, zone, status, p.line_end_m, i.front_max_m + p.max_ma_m)"
+_EOA = "eoa = o.min(d_locked, leader, zone, p.line_end_m, i.front_max_m + p.max_ma_m)"
 
 # property -> (function, text in it, faulty replacement)
 MUTANTS = {
@@ -33,8 +33,6 @@ MUTANTS = {
     ),
     "authority.before_protection_zone": (authority.authority_step, _EOA, _EOA.replace("zone, ", "")),
     "authority.within_line_and_max_ma": (authority.authority_step, _EOA, _EOA.replace("p.line_end_m, ", "")),
-    # a stale ATS status not acted on: a zone set since may be run into
-    "authority.stopped_on_stale_status": (authority.authority_step, _EOA, _EOA.replace("status, ", "")),
     # the stopping point's bound kept for the limit even in brick-wall mode
     "authority.behind_leader": (
         authority.leader_limit_m,
@@ -197,7 +195,6 @@ def _inputs(**changes) -> AuthorityInputs:
         report_speed_mps=Fraction(20),
         zone_active=False,
         zone_start_m=Fraction(0),
-        ats_status_fresh=True,
     )
     return AuthorityInputs(**{**base, **changes})
 
@@ -283,7 +280,6 @@ class TestWorkedExample:
 
     def test_protection_zone_end_of_line_and_max_ma(self):
         assert _eoa(inputs=_inputs(zone_active=True, zone_start_m=Fraction(1000))).eoa_m == 1000
-        assert _eoa(inputs=_inputs(ats_status_fresh=False)).eoa_m == 300, "stale: stop at the max safe front"
         assert _eoa(inputs=_inputs(report_delivered=False)).eoa_m == 1800  # front 300 + MAX_MA 1500
         assert _eoa(inputs=_inputs(report_delivered=False, front_max_m=Fraction(1600))).eoa_m == 2900
 

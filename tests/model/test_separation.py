@@ -287,7 +287,6 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
             switch_reversed=(False, False),
             zone_active=False,
             zone_start_m=Fraction(0),
-            ats_status_fresh=True,
         )
         eoa = separation.follower_authority(EXACT, params, s, inputs)[1].eoa_m
         _, commands, _ = atp_cycle(EXACT, params, s, inputs, eoa_target(EXACT, eoa), params.mrsp_mps)

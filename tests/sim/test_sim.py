@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from atcs.model.ats_status import ATS_STATUS
 from atcs.model.authority import AUTHORITY
 from atcs.proofs.cli import main
 from atcs.proofs.mutation.mutants import mutant_node
@@ -24,9 +25,9 @@ ZONE_IGNORED = mutant_node(
 )
 """The authority node with the protection zone ignored."""
 STALE_STATUS_IGNORED = mutant_node(
-    AUTHORITY, "status = o.ite(i.ats_status_fresh, o.const(FAR_M), i.front_max_m)", "status = o.const(FAR_M)"
+    ATS_STATUS, "zone_active = o.or_(o.not_(fresh), kept.kept_zone_active)", "zone_active = kept.kept_zone_active"
 )
-"""The authority node running on a stale ATS status."""
+"""The ATS status node letting the train run on a stale status (the zone it last heard, if any)."""
 SEED000 = ("seed000_normal", "seed000_service_brake_disabled", "seed000_slow_leader", "seed000_protection_zone")
 SEED002 = ("seed002_speed_restriction", "seed002_protection_zone")
 FAULT_LINE = """name = "faults"
@@ -784,17 +785,17 @@ class TestChecks:
             Simulation(load_scenario(resolve("seed000_protection_zone"))).run()
         assert caught.value.prop.name == "authority.before_protection_zone"
 
-    def test_an_authority_deaf_to_a_stale_status_is_caught(self, tmp_path, monkeypatch):
-        """The authority node running on when the ATS's status is stale: the monitor stops the run on AUT-17; with
+    def test_a_train_running_on_a_stale_status_is_caught(self, tmp_path, monkeypatch):
+        """The ATS status node letting the train run on a stale status: the monitor stops the run on ATS-04; with
         that check off, the leader runs into the zone the lost status would have set."""
         path = tmp_path / "ats.toml"
         path.write_text(FAULT_LINE.format(leader=ATS_LOST, line=ATS_LINE.format(zone_m=1900), duration_s=40))
-        monkeypatch.setattr(simulator, "AUTHORITY", STALE_STATUS_IGNORED)
+        monkeypatch.setattr(simulator, "ATS_STATUS", STALE_STATUS_IGNORED)
         with pytest.raises(PropertyViolation) as caught:
             Simulation(load_scenario(path)).run()
-        assert caught.value.prop.name == "authority.stopped_on_stale_status"
-        unchecked = tuple(p for p in simulator.AUTHORITY_PROPERTIES if p.name != caught.value.prop.name)
-        monkeypatch.setattr(simulator, "AUTHORITY_PROPERTIES", unchecked)
+        assert caught.value.prop.name == "ats_status.stale_status_stops"
+        unchecked = tuple(p for p in simulator.ATS_STATUS_PROPERTIES if p.name != caught.value.prop.name)
+        monkeypatch.setattr(simulator, "ATS_STATUS_PROPERTIES", unchecked)
         with pytest.raises(SafetyViolation, match="entered the protection zone at 1900 m"):
             Simulation(load_scenario(path)).run()
 
