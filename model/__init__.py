@@ -24,7 +24,7 @@ from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
 from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
-from atcs.model.prepared_curves import PREPARED_CURVES
+from atcs.model.prepared_curves import PREPARED_CONVERTED_CURVES, PREPARED_CURVES, PREPARED_STEPPED_CURVES
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
@@ -40,6 +40,8 @@ NODES: dict[str, Node] = {
         DECELERATION,
         CURVES,
         PREPARED_CURVES,
+        PREPARED_STEPPED_CURVES,
+        PREPARED_CONVERTED_CURVES,
         PLANT,
         PLANT_PAIR,
         CLOSED_LOOP,

@@ -18,14 +18,17 @@ breakpoints, for the presets' trains.
 from __future__ import annotations
 
 import bisect
+import dataclasses
 from dataclasses import dataclass
 from typing import Generic
 
 from atcs.model.curves import (
+    CONVERTED_CURVES,
     DESIGN_CASE_SIZES,
     FAR_M,
     HUGE_SPEED2,
     MIN_SPAN,
+    STEPPED_CURVES,
     CurveLocations,
     CurveParams,
     CurveQuery,
@@ -115,7 +118,17 @@ PREPARED_CURVES = stateless_node(
     sizes=DESIGN_CASE_SIZES,
 )
 """One target's curves from its table, as :data:`~atcs.model.curves.CURVES` computes them directly: the same
-parameters and query, for CRV-13 and CRV-14."""
+parameters and query, for CRV-13 to CRV-15."""
+
+PREPARED_STEPPED_CURVES = dataclasses.replace(
+    PREPARED_CURVES, name="prepared_curves_stepped", sizes=STEPPED_CURVES.sizes
+)
+""":data:`PREPARED_CURVES` with the three-step emergency brake of :data:`~atcs.model.curves.STEPPED_CURVES`."""
+
+PREPARED_CONVERTED_CURVES = dataclasses.replace(
+    PREPARED_CURVES, name="prepared_curves_converted", sizes=CONVERTED_CURVES.sizes
+)
+""":data:`PREPARED_CURVES` with the four-step brakes of :data:`~atcs.model.curves.CONVERTED_CURVES`."""
 
 
 # --- a horizon's tables, for supervision on concrete data ---------------------------------------------------------
@@ -214,7 +227,9 @@ def _nearer(o: Ops, curve: CurveLocations | None, found: CurveLocations) -> Curv
 
 
 __all__ = [
+    "PREPARED_CONVERTED_CURVES",
     "PREPARED_CURVES",
+    "PREPARED_STEPPED_CURVES",
     "BrakingTable",
     "PreparedHorizon",
     "braking_table",

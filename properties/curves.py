@@ -36,7 +36,9 @@ from atcs.model.curves import (
 )
 from atcs.model.node import as_dict
 from atcs.model.prepared_curves import (
+    PREPARED_CONVERTED_CURVES,
     PREPARED_CURVES,
+    PREPARED_STEPPED_CURVES,
     braking_table,
     nearest_locations_m,
     table_lowest_decel_mps2,
@@ -338,6 +340,15 @@ def sized_node(node, fixed: dict):
 _SIZED: dict = {}
 
 
+def prepared_node(fixed: dict):
+    """The prepared-curves node whose brake tables have the sizes of ``fixed``'s (as :func:`curve_node`)."""
+    sizes = {key: len(fixed[key]) for key in PREPARED_CURVES.sizes if key in fixed}
+    for node in (PREPARED_CURVES, PREPARED_STEPPED_CURVES, PREPARED_CONVERTED_CURVES):
+        if {**node.sizes, **sizes} == node.sizes:
+            return node
+    return sized_node(PREPARED_CURVES, fixed)
+
+
 def curve_node(fixed: dict):
     """The curves node whose brake tables have the sizes of ``fixed``'s: a registered one, or :data:`CURVES` with
     those sizes (and its gradient profile's, when ``fixed`` gives the breakpoints)."""
@@ -490,7 +501,7 @@ def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "speed: every curve's location, looked up in the target's EBD table walked once per authority, "
                 "equals the direct walk's, for every gradient breakpoints and estimated acceleration."
             ),
-            node=sized_node(PREPARED_CURVES, fixed),
+            node=prepared_node(fixed),
             holds=_prepared_equals_direct,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
@@ -504,7 +515,7 @@ def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "leaves its cells never fall, so the concrete backends' bisection finds the cell the symbolic "
                 "lookup's chain does."
             ),
-            node=sized_node(PREPARED_CURVES, fixed),
+            node=prepared_node(fixed),
             holds=_table_ascending,
             assumptions=(TRACK_AND_TARGET,),
             fixed_params=fixed,
@@ -519,7 +530,7 @@ def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
                 "that for V_bec less D_bec: what lets supervision skip the targets beyond a braking distance of "
                 "the nearest constraint."
             ),
-            node=sized_node(PREPARED_CURVES, fixed),
+            node=prepared_node(fixed),
             holds=_nearest_bound,
             assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
