@@ -19,6 +19,7 @@ from atcs.proofs.cli import (
     bench,
     certify,
     conformance,
+    coverage,
     curves,
     headway,
     mutate,
@@ -33,7 +34,21 @@ from atcs.proofs.cli._common import EXIT_INTERNAL, EXIT_INTERRUPTED, EXIT_USAGE,
 
 __all__ = ["build_parser", "main", "version_lines"]
 
-COMMANDS = (prove, certify, replay, curves, conformance, railml, platforms, sim, headway, mutate, bench, vectors)
+COMMANDS = (
+    prove,
+    certify,
+    replay,
+    coverage,
+    curves,
+    conformance,
+    railml,
+    platforms,
+    sim,
+    headway,
+    mutate,
+    bench,
+    vectors,
+)
 TRACEBACK_VARIABLE = "ATCS_TRACEBACK"
 """Set to 1, an internal error or an interruption is re-raised with its traceback (for developers)."""
 

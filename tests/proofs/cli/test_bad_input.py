@@ -89,6 +89,8 @@ FILE_SURFACES = {
         "r.json",
     ),
     "equivalents": (["mutate", "--list", "--equivalents", "{file}"], "e.toml"),
+    "coverage allowlist": (["coverage", "--only", "mrsp.*", "--allowlist", "{file}"], "a.toml"),
+    "coverage prove report": (["coverage", "--report", "{file}"], "r.json"),
     "conformance frame": (["conformance", "{file}"], "f.json"),
 }
 
