@@ -4,6 +4,7 @@
 under every backend.
 """
 
+from atcs.model.ato import ATO
 from atcs.model.ats_status import ATS_STATUS
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
 from atcs.model.closed_loop import CLOSED_LOOP, DECREASE_LOOP
@@ -18,7 +19,7 @@ from atcs.model.curves import (
 )
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
-from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE
+from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE, TARGETS
 from atcs.model.mrsp import MRSP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
@@ -65,6 +66,8 @@ NODES: dict[str, Node] = {
         GUIDANCE_CURVES,
         MOST_RESTRICTIVE,
         EXCEEDANCES,
+        TARGETS,
+        ATO,
     )
 }
 

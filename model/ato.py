@@ -45,7 +45,8 @@ from typing import Generic
 
 from atcs.model.curves import FAR_M
 from atcs.model.errors import AtcsInputError
-from atcs.model.ops import N, Ops
+from atcs.model.node import Stateless, stateless_node
+from atcs.model.ops import B, N, Ops
 from atcs.model.profile import Profile
 
 FAR = 0
@@ -145,13 +146,44 @@ def ato_target_speed(
 
     So the target never exceeds ``cap``, and within the MA's braking distance it is at most the MA
     speed unless a speed limit nearer than the MA needs a larger deceleration (then its braking
-    pattern reaches the MA's location at or below the MA speed: tests/model/test_ato.py proves both with z3).
+    pattern reaches the MA's location at or below the MA speed): ATO-01 to ATO-04 prove both.
 
     Concrete ``planning_decel_mps2`` and ``margin_m`` are validated (:class:`AtoError`); symbolic
     ones are the proof's business (:func:`ato_preconditions`).
     """
     _check("planning_decel_mps2", planning_decel_mps2, allow_zero=False)
     _check("margin_m", margin_m, allow_zero=True)
+    return choose_target(
+        o,
+        front_m=front_m,
+        speed_mps=speed_mps,
+        line_limit_mps=line_limit_mps,
+        train_max_mps=train_max_mps,
+        next_limit_m=next_limit_m,
+        next_limit_mps=next_limit_mps,
+        ma_end_m=ma_end_m,
+        ma_speed_mps=ma_speed_mps,
+        planning_decel_mps2=planning_decel_mps2,
+        margin_m=margin_m,
+    )
+
+
+def choose_target(
+    o: Ops,
+    *,
+    front_m,
+    speed_mps,
+    line_limit_mps,
+    train_max_mps,
+    next_limit_m,
+    next_limit_mps,
+    ma_end_m,
+    ma_speed_mps,
+    planning_decel_mps2,
+    margin_m,
+) -> AtoTarget:
+    """:func:`ato_target_speed`'s rules on data it has checked (the node :data:`ATO` proves them on any data
+    :func:`ato_preconditions` admits)."""
     cap_mps = o.min(line_limit_mps, train_max_mps)
     limit_target_mps = o.min(next_limit_mps, cap_mps)
     ma_target_mps = o.min(ma_speed_mps, limit_target_mps)
@@ -257,16 +289,67 @@ def _check(name: str, value, *, allow_zero: bool) -> None:
             raise AtoError(f"{label} must be {expected} and finite, got {x!r}")
 
 
+# --- the target selection as a node ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class AtoParams(Generic[N, B]):
+    train_max_mps: N
+    planning_decel_mps2: N
+    margin_m: N
+
+
+@dataclass(frozen=True)
+class AtoQuery(Generic[N, B]):
+    front_m: N
+    speed_mps: N
+    line_limit_mps: N
+    next_limit_m: N
+    next_limit_mps: N
+    ma_end_m: N
+    ma_speed_mps: N
+
+
+@dataclass(frozen=True)
+class AtoChoice(Generic[N, B]):
+    """:class:`AtoTarget` as a node's outputs."""
+
+    target_speed_mps: N
+    target_location_m: N
+    target_reason: N
+
+
+def ato_step(o: Ops, p: AtoParams, s: Stateless, i: AtoQuery):
+    target = choose_target(o, **vars(p), **vars(i))
+    return s, AtoChoice(target.speed_mps, target.location_m, target.reason)
+
+
+ATO = stateless_node(
+    name="ato",
+    params=AtoParams,
+    inputs=AtoQuery,
+    outputs=AtoChoice,
+    step=ato_step,
+    seed="003 §2.1, §2.2",
+)
+""":func:`choose_target` with every position, speed, limit, deceleration and margin symbolic."""
+
+
 __all__ = [
+    "ATO",
     "FAR",
     "MA_END",
     "REASON_NAMES",
     "SPEED_LIMIT",
+    "AtoChoice",
     "AtoError",
+    "AtoParams",
+    "AtoQuery",
     "AtoTarget",
     "LimitsAhead",
     "ato_preconditions",
     "ato_target_speed",
+    "choose_target",
     "limits_ahead",
     "needs_at_least_the_deceleration_of",
     "within_braking_distance",

@@ -89,20 +89,37 @@ def ceilings(o: Ops, n: NationalData, mrsp_mps) -> Ceilings:
     )
 
 
+def decrease_targets(o: Ops, n: NationalData, starts_m, values_mps, eoa_m, max_safe_front_m):
+    """For each MRSP segment after the first, ``(supervised, target)``: the segment's start, value and EBD foot
+    speed, and whether it is a speed decrease ahead of ``max_safe_front_m`` and short of ``eoa_m`` (only those are
+    supervised as targets)."""
+    return tuple(
+        (
+            o.and_(v < before, max_safe_front_m < start, start < eoa_m),
+            Target(start, v, ebd_foot_mps(o, n, v)),
+        )
+        for start, before, v in zip(starts_m[1:], values_mps, values_mps[1:], strict=False)
+    )
+
+
+def eoa_target(o: Ops, n: NationalData, eoa_m, eoa_speed_mps) -> Target:
+    """The end of authority as a target: its EBD ends at standstill there (the SvL, Subset-026 §3.13.8.3.2); an
+    EoA with a target speed above 0 (a limit of authority) is supervised as a speed decrease, its EBD passing
+    ``V_target + dV_ebi(V_target)`` at it (§3.13.8.3.1)."""
+    foot = o.ite(eoa_speed_mps > o.const(0), ebd_foot_mps(o, n, eoa_speed_mps), eoa_speed_mps)
+    return Target(eoa_m, eoa_speed_mps, foot)
+
+
 def supervised_targets(o: Ops, n: NationalData, horizon: Horizon, max_safe_front_m) -> tuple[Target, ...]:
-    """The MRSP's speed decreases ahead of ``max_safe_front_m`` and short of the EoA, then the EoA
-    (concrete profiles: the number of targets depends on the data). The EoA's EBD ends at standstill there
-    (the SvL, Subset-026 §3.13.8.3.2); an EoA with a target speed above 0 (a limit of authority) is supervised
-    as a speed decrease, its EBD passing ``V_target + dV_ebi(V_target)`` at it (§3.13.8.3.1)."""
+    """The MRSP's speed decreases ahead of ``max_safe_front_m`` and short of the EoA
+    (:func:`decrease_targets`), then the EoA (:func:`eoa_target`); concrete profiles: the number of targets
+    depends on the data (the node :data:`TARGETS` proves the choice and the foot speeds for symbolic ones)."""
     mrsp = horizon.mrsp
-    targets = [
-        Target(start, v, ebd_foot_mps(o, n, v))
-        for start, before, v in zip(mrsp.starts_m[1:], mrsp.values, mrsp.values[1:], strict=False)
-        if v < before and max_safe_front_m < start < horizon.eoa_m
-    ]
-    eoa_speed = horizon.eoa_speed_mps
-    targets.append(Target(horizon.eoa_m, eoa_speed, ebd_foot_mps(o, n, eoa_speed) if eoa_speed > 0 else eoa_speed))
-    return tuple(targets)
+    decreases = decrease_targets(o, n, mrsp.starts_m, mrsp.values, horizon.eoa_m, max_safe_front_m)
+    return (
+        *(target for supervised, target in decreases if supervised),
+        eoa_target(o, n, horizon.eoa_m, horizon.eoa_speed_mps),
+    )
 
 
 def most_restrictive(o: Ops, per_target: tuple[CurveLocations, ...]) -> CurveLocations:
@@ -293,3 +310,70 @@ EXCEEDANCES = stateless_node(
 )
 """:func:`exceedances` as a sub-function of its own, every location, ceiling, front and speed symbolic (in the closed
 loop a speed at exactly a ceiling is reached only tens of cycles after power-up)."""
+
+
+# --- the targets of a horizon as a sub-function node ---------------------------------------------------------------
+
+TARGET_SEGMENTS = 4
+"""The MRSP segments the proofs cover (every start and value symbolic): three boundaries, each a possible target."""
+
+
+@dataclass(frozen=True)
+class TargetParams(NationalData[N, B]):
+    mrsp_starts_m: tuple[N, ...]
+    mrsp_values_mps: tuple[N, ...]
+    eoa_m: N
+    eoa_speed_mps: N
+
+
+@dataclass(frozen=True)
+class TargetQuery(Generic[N]):
+    max_safe_front_m: N
+
+
+@dataclass(frozen=True)
+class HorizonTargets(Generic[N, B]):
+    """Per MRSP boundary (segment 1 on): supervised as a target or not, and its location, speed and EBD foot speed;
+    the EoA's target."""
+
+    supervised: tuple[B, ...]
+    target_location_m: tuple[N, ...]
+    target_speed_mps: tuple[N, ...]
+    target_ebd_foot_mps: tuple[N, ...]
+    eoa_target_location_m: N
+    eoa_target_speed_mps: N
+    eoa_target_ebd_foot_mps: N
+
+
+def targets_step(o: Ops, p: TargetParams, s: Stateless, i: TargetQuery):
+    decreases = decrease_targets(o, p, p.mrsp_starts_m, p.mrsp_values_mps, p.eoa_m, i.max_safe_front_m)
+    eoa = eoa_target(o, p, p.eoa_m, p.eoa_speed_mps)
+    return s, HorizonTargets(
+        supervised=tuple(supervised for supervised, _ in decreases),
+        target_location_m=tuple(target.location_m for _, target in decreases),
+        target_speed_mps=tuple(target.speed_mps for _, target in decreases),
+        target_ebd_foot_mps=tuple(target.ebd_foot_mps for _, target in decreases),
+        eoa_target_location_m=eoa.location_m,
+        eoa_target_speed_mps=eoa.speed_mps,
+        eoa_target_ebd_foot_mps=eoa.ebd_foot_mps,
+    )
+
+
+TARGETS = stateless_node(
+    name="targets",
+    params=TargetParams,
+    inputs=TargetQuery,
+    outputs=HorizonTargets,
+    step=targets_step,
+    seed="000 §2.4, 002 §3.2; Subset-026 §3.13.8.3",
+    sizes={
+        "mrsp_starts_m": TARGET_SEGMENTS,
+        "mrsp_values_mps": TARGET_SEGMENTS,
+        **{
+            name: TARGET_SEGMENTS - 1
+            for name in ("supervised", "target_location_m", "target_speed_mps", "target_ebd_foot_mps")
+        },
+    },
+)
+"""The targets :func:`supervised_targets` takes from a horizon, for an MRSP of :data:`TARGET_SEGMENTS` segments
+and any EoA, front and national data: each boundary supervised or not, and each target's foot speed."""

@@ -10,6 +10,7 @@ import fnmatch
 
 from atcs.properties import (
     adhesion,
+    ato,
     ats_status,
     authority,
     ceiling_offset,
@@ -27,6 +28,7 @@ from atcs.properties import (
     stopping_point,
     supervision,
     tacho_check,
+    targets,
 )
 from atcs.properties.property import Assumption, Property
 
@@ -64,6 +66,8 @@ PROPERTIES: dict[str, Property] = _register(
     exceedances.PROPERTIES,
     stopping_point.PROPERTIES,
     tacho_check.PROPERTIES,
+    targets.PROPERTIES,
+    ato.PROPERTIES,
 )
 
 

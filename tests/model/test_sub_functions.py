@@ -19,6 +19,7 @@ from atcs.properties import (
     most_restrictive,
     stopping_point,
     tacho_check,
+    targets,
 )
 
 SUB_FUNCTION_PROPERTIES = [
@@ -31,6 +32,7 @@ SUB_FUNCTION_PROPERTIES = [
         exceedances,
         stopping_point,
         tacho_check,
+        targets,
     )
     for p in module.PROPERTIES
 ]
@@ -92,6 +94,24 @@ MUTANTS = {
         position.implausible_increment,
         "slack = p.tacho_error * (tacho_m + last_m)",
         "slack = o.const(0)",
+    ),
+    # a decrease at the max safe front supervised too (and one at the EoA)... the strict bound dropped
+    "targets.every_decrease_ahead": (
+        dynamic_profile.decrease_targets,
+        "o.and_(v < before, max_safe_front_m < start, start < eoa_m)",
+        "o.and_(v <= before, max_safe_front_m < start, start < eoa_m)",
+    ),
+    # the foot at the SBI's offset: the EBD ends below the EBI ceiling past the decrease
+    "targets.foot_at_the_ebi_ceiling": (
+        dynamic_profile.ebd_foot_mps,
+        "n.dv_ebi_min_mps, n.dv_ebi_max_mps, n.v_ebi_min_mps, n.v_ebi_max_mps",
+        "n.dv_sbi_min_mps, n.dv_sbi_max_mps, n.v_sbi_min_mps, n.v_sbi_max_mps",
+    ),
+    # a limit of authority's EBD ending at its speed, not at its EBI ceiling
+    "targets.eoa_target": (
+        dynamic_profile.eoa_target,
+        "ebd_foot_mps(o, n, eoa_speed_mps), eoa_speed_mps)",
+        "eoa_speed_mps, eoa_speed_mps)",
     ),
     # a negative distance not checked
     "tacho_check.negative_is_implausible": (position.implausible_increment, "tacho_m < o.const(0),", ""),
