@@ -30,6 +30,7 @@ from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
+from atcs.model.t2t_message import T2T_REPORT
 
 NODES: dict[str, Node] = {
     node.name: node
@@ -68,6 +69,7 @@ NODES: dict[str, Node] = {
         EXCEEDANCES,
         TARGETS,
         ATO,
+        T2T_REPORT,
     )
 }
 

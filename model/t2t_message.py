@@ -28,11 +28,23 @@ from __future__ import annotations
 import zlib
 from dataclasses import dataclass
 from fractions import Fraction
-from math import floor
+from typing import Generic
 
 from atcs.model.bits import BitReader, BitWriter, PacketError
+from atcs.model.node import Stateless, stateless_node
+from atcs.model.ops import B, N, Ops
+from atcs.model.ops.exact import EXACT
 
-__all__ = ["REPORT_BYTES", "ReceivedReport", "T2TReport", "decode_report", "encode_report"]
+__all__ = [
+    "REPORT_BYTES",
+    "T2T_REPORT",
+    "ReceivedReport",
+    "T2TReport",
+    "decode_report",
+    "encode_report",
+    "min_speed_mps",
+    "report_quantities",
+]
 
 _FIELDS = (("NID_ENGINE", 24), ("N_SEQ", 32), ("T_SENT", 32), ("D_REAR", 32), ("V_MIN", 16))
 _SAFETY_BITS = 32
@@ -64,17 +76,32 @@ def _safety_code(sender_id: int, body: bytes) -> int:
     return zlib.crc32(sender_id.to_bytes(3, "big") + body)
 
 
+def min_speed_mps(o: Ops, speed_est_mps, speed_accuracy_mps):
+    """The min speed a train reports: its estimate less the estimate's accuracy, and at least 0."""
+    return o.max(o.const(0), speed_est_mps - speed_accuracy_mps)
+
+
+def report_quantities(o: Ops, rear_m, speed_mps, sent_s):
+    """``(rear, speed, time stamp)`` as the report carries them: each rounded down to its field's unit (cm, cm/s,
+    ms), the safe side of each (T2T-01 to T2T-03)."""
+    cm, ms = o.const(100), o.const(1000)
+    return o.floor(rear_m * cm) / cm, o.floor(speed_mps * cm) / cm, o.floor(sent_s * ms) / ms
+
+
 def encode_report(report: T2TReport) -> bytes:
     """The report's bytes; a field outside its range raises :class:`~atcs.model.bits.PacketError` naming it."""
-    rear_cm = floor(Fraction(report.rear_m) * 100)
+    rear_m, speed_mps, sent_s = report_quantities(
+        EXACT, Fraction(report.rear_m), Fraction(report.speed_mps), Fraction(report.sent_s)
+    )
+    rear_cm = int(rear_m * 100)
     if not -(1 << 31) <= rear_cm < 1 << 31:
         raise PacketError("T2T report", "D_REAR", 88, f"{report.rear_m} m is beyond +-21,474,836.47 m")
     values = {
         "NID_ENGINE": report.sender_id,
         "N_SEQ": report.seq,
-        "T_SENT": floor(Fraction(report.sent_s) * 1000),
+        "T_SENT": int(sent_s * 1000),
         "D_REAR": rear_cm % (1 << 32),
-        "V_MIN": floor(Fraction(report.speed_mps) * 100),
+        "V_MIN": int(speed_mps * 100),
     }
     bits = BitWriter("T2T report")
     for name, width in _FIELDS:
@@ -101,3 +128,56 @@ def decode_report(data: bytes, expected_sender_id: int) -> ReceivedReport:
     )
     intact = len(data) == REPORT_BYTES and code == _safety_code(expected_sender_id, padded[:body_bytes])
     return ReceivedReport(report, intact)
+
+
+# --- what a report says of its sender, as a node ------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ReportParams(Generic[N, B]):
+    train_length_m: N
+
+
+@dataclass(frozen=True)
+class SenderState(Generic[N, B]):
+    """The sender's true front and speed, and what its position function estimates when it sends."""
+
+    true_front_m: N
+    true_speed_mps: N
+    front_min_m: N
+    speed_est_mps: N
+    speed_accuracy_mps: N
+    clock_s: N
+    """The sender's clock."""
+
+
+@dataclass(frozen=True)
+class ReportContent(Generic[N, B]):
+    """The rear, speed and time stamp the report carries, as the receiver decodes them (an intact report)."""
+
+    report_rear_m: N
+    report_speed_mps: N
+    report_sent_s: N
+
+
+def t2t_report_step(o: Ops, p: ReportParams, s: Stateless, i: SenderState):
+    rear, speed, sent = report_quantities(
+        o,
+        i.front_min_m - p.train_length_m,
+        min_speed_mps(o, i.speed_est_mps, i.speed_accuracy_mps),
+        i.clock_s,
+    )
+    return s, ReportContent(rear, speed, sent)
+
+
+T2T_REPORT = stateless_node(
+    name="t2t_report",
+    params=ReportParams,
+    inputs=SenderState,
+    outputs=ReportContent,
+    step=t2t_report_step,
+    seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
+)
+"""What a report says (its min safe rear and min speed, rounded down to the units it carries) from the sender's
+position estimate, every value symbolic: what the two-train proofs assume of an intact report (REPORT_REAR,
+REPORT_STOP) is true of it when it is sent."""

@@ -27,6 +27,7 @@ from atcs.properties import (
     separation,
     stopping_point,
     supervision,
+    t2t_report,
     tacho_check,
     targets,
 )
@@ -68,6 +69,7 @@ PROPERTIES: dict[str, Property] = _register(
     tacho_check.PROPERTIES,
     targets.PROPERTIES,
     ato.PROPERTIES,
+    t2t_report.PROPERTIES,
 )
 
 

@@ -57,7 +57,7 @@ from atcs.model.psl import Restriction, extend_by_train_length
 from atcs.model.resources import HELD, RESOURCES, ResourceInputs, ResourceState
 from atcs.model.restrictions import SpeedRestrictions, as_float
 from atcs.model.supervision import SupervisionParams, SupervisionState, supervise
-from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report
+from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report, min_speed_mps
 from atcs.model.train_data import preset_data
 from atcs.sim.ato_driver import ato_commands
 from atcs.sim.monitor import Monitor, check_step, registered_properties
@@ -466,7 +466,7 @@ class Simulation:
                     seq=train.reports_sent,
                     sent_s=self.onboard_clock_s(train),
                     rear_m=Fraction(pos.rear_min_m),
-                    speed_mps=Fraction(max(0.0, pos.speed_est_mps - pos.speed_accuracy_mps)),
+                    speed_mps=Fraction(min_speed_mps(FLOAT, pos.speed_est_mps, pos.speed_accuracy_mps)),
                 )
             )
         count = self.resources_per_lap

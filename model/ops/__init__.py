@@ -76,6 +76,11 @@ class Ops(Protocol[N, B]):
         concrete backends; the symbolic one is the tree of ``ite`` over every path of the search (as many nodes
         as keys), so all three answer alike for any keys, ascending or not."""
 
+    def floor(self, value: N) -> N:
+        """The largest whole number at or below ``value`` (a quantity rounded down to its unit for a message:
+        ``o.floor(x * 100) / 100`` in cm). The symbolic one is z3's ``to_int``, so a proof reasons about it
+        exactly."""
+
     def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
         """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.
 

@@ -6,6 +6,7 @@ Used to replay counterexamples and to compute test-vector outputs bit-exactly.
 from __future__ import annotations
 
 import bisect
+import math
 from fractions import Fraction
 
 from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
@@ -58,6 +59,9 @@ class ExactOps:
 
     def first_above(self, keys, key):
         return Fraction(bisect.bisect_right(keys, key))
+
+    def floor(self, value) -> Fraction:
+        return Fraction(math.floor(value))
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

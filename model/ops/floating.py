@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import bisect
 import dataclasses
+import math
 import sys
 from fractions import Fraction
 from functools import reduce
@@ -136,6 +137,11 @@ class FloatOps:
             high = np.where(searching & below, middle, high)
             low = np.where(searching & ~below, middle + 1, low)
         return low.astype(float)
+
+    def floor(self, value):
+        if _is_array(value):
+            return np.floor(value)
+        return float(math.floor(value))
 
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)

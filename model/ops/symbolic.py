@@ -232,6 +232,9 @@ class SymbolicOps:
 
         return Real(search(0, len(keys)))
 
+    def floor(self, value) -> Real:
+        return Real(z3.ToReal(z3.ToInt(_term(value))))
+
     def sort_by_key(self, keys, *columns):
         check_columns(keys, columns)
         wires = [[_term(k) for k in keys], *([_any_term(v) for v in column] for column in columns)]

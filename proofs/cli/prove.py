@@ -90,6 +90,19 @@ def add_parser(subparsers) -> None:
         help="also write each proved property's witness runs (its assumptions and every implication's "
         "condition reached) here as JSON",
     )
+    p.add_argument(
+        "--cores",
+        action="store_true",
+        help="also give each property proved by k-induction its validity core: the state equations, assumptions "
+        "and lemmas the proof needs, and those it does not (in the table, the JSON and the catalogue)",
+    )
+    p.add_argument(
+        "--core-timeout",
+        metavar="SECONDS",
+        type=positive_float,
+        default=60.0,
+        help="per-property time limit of --cores; past it the core is sufficient but not minimal (default 60)",
+    )
     refine = p.add_mutually_exclusive_group()
     refine.add_argument(
         "--smooth",
@@ -134,6 +147,8 @@ def run(args, out, err) -> int:
         return EXIT_INTERRUPTED
 
     records = [r for prop in props for r in _records(prop, results[prop.name], registry, args)]
+    if args.cores:
+        _add_cores(records, registry, args, out, err)
     _print(out, records, wall)
     envelopes = _write_maps(maps, args, out) if maps else None
     if args.json:
@@ -158,6 +173,25 @@ def run(args, out, err) -> int:
     statuses = {r["status"] for r in records}
     incomplete = bool(statuses & {"vacuous", "unknown", "error"} or gaps)  # a configuration not wholly covered
     return exit_code(against="falsified" in statuses, incomplete=incomplete)
+
+
+def _add_cores(records: list[dict], registry, args, out, err) -> None:
+    """Each record proved by k-induction gets its validity core (``core``); those with parts no proof needs are
+    listed."""
+    from atcs.proofs.engine.cores import validity_core
+
+    proved = [r for r in records if r["status"] == "proved" and r["engine"] == "k-induction" and r["k"] is not None]
+    with progress_bar(err, "validity cores", len(proved)) as bar:
+        for record in proved:
+            prop = registry[record["name"]]
+            lemmas = tuple(registry[name] for name in prop.lemmas)
+            core = validity_core(prop, lemmas, record["k"], args.core_timeout)
+            record["core"] = core.record()
+            bar.done(record["name"], f"core {record['name']}: {len(core.needs)} needed ({core.seconds:.1f} s)")
+    for record in proved:  # the flags: an assumption or a lemma no proof needs
+        unneeded = [part for part in record["core"]["unneeded"] if not part.startswith("equation ")]
+        if unneeded:
+            out.print(f"{record['name']}: the proof does not need {', '.join(unneeded)}", highlight=False)
 
 
 def _records(prop, result, registry, args, part_of: str | None = None) -> list[dict]:

@@ -77,6 +77,9 @@ class Frame:
     assumed: z3.BoolRef
     prop: z3.BoolRef
     lemmas: z3.BoolRef
+    parts: dict[str, z3.BoolRef]
+    """``trans``, ``assumed`` and ``lemmas`` conjunct by conjunct: ``equation <field>``, ``assumption <name>``,
+    ``lemma <name>`` (what a validity core is made of, :mod:`atcs.proofs.engine.cores`)."""
 
 
 class Unrolling:
@@ -115,11 +118,14 @@ class Unrolling:
         computed, out = node.step(o, p, s, i)
         nxt = variables(node.state, node, "state", str(k + 1))
         self._states.append(nxt)
-        trans = unwrap(o.and_(*(equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state"))))
-        assumed = unwrap(self.prop.assumed(o, p, s, i))
+        equations = {f"equation {n}": equal(getattr(nxt, n), getattr(computed, n)) for n in node.sorts("state")}
+        trans = unwrap(o.and_(*equations.values()))
+        assumptions = {f"assumption {a.name}": a.holds(o, p, s, i) for a in self.prop.assumptions}
+        assumed = unwrap(o.and_(*assumptions.values()))
         holds = unwrap(self.prop.holds(o, p, s, i, out, nxt))
-        lemmas = unwrap(o.and_(*(lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas)))
-        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, lemmas))
+        lemmas = {f"lemma {lemma.name}": lemma.holds(o, p, s, i, out, nxt) for lemma in self.lemmas}
+        parts = {name: unwrap(term) for name, term in (equations | assumptions | lemmas).items()}
+        self.frames.append(Frame(s, i, out, nxt, trans, assumed, holds, unwrap(o.and_(*lemmas.values())), parts))
 
     def distinct(self, a: int, b: int) -> z3.BoolRef:
         """States ``a`` and ``b`` differ in at least one field."""

@@ -98,6 +98,16 @@ class TestTableLookup:
             got = read(o.first_above(tuple(o.const(k) for k in keys), o.const(key)))
             assert got == bisect.bisect_right(keys, key), (keys, key)
 
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_floor_rounds_down_to_a_whole_number(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        got = [read(o.floor(o.const(x))) for x in ("2.5", 3, "-0.25", "-3", "1/3")]
+        assert got == [2, 3, -1, -3, 0]
+
+    def test_floor_float_batch(self):
+        assert FLOAT.floor(np.array([2.5, -0.25, 7.0])).tolist() == [2.0, -1.0, 7.0]
+
     def test_first_above_float_batch(self):
         index = FLOAT.first_above((1.0, 3.0, 3.0, 8.0), np.array([0.0, 3.0, 7.5, 9.0]))
         assert index.tolist() == [0.0, 3.0, 3.0, 4.0]

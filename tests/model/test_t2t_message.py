@@ -1,5 +1,6 @@
-"""The T2T report on the radio (model/t2t_message.py): fields rounded to the safe side, and every corruption of
-the kinds CRC-32 guarantees to catch, and every other sender, detected."""
+"""The T2T report on the radio (model/t2t_message.py): fields rounded to the safe side (and proved so of what a
+report says of its sender: T2T-01 to T2T-03), and every corruption of the kinds CRC-32 guarantees to catch, and
+every other sender, detected."""
 
 import itertools
 import random
@@ -9,8 +10,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
+from atcs.model import t2t_message
 from atcs.model.bits import PacketError
+from atcs.model.ops.exact import EXACT
 from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report
+from atcs.proofs.mutation.mutants import falsify
+from atcs.properties import PROPERTIES
 
 REPORT = T2TReport(sender_id=3, seq=7, sent_s=Fraction("12.3456"), rear_m=Fraction("-100.005"), speed_mps=Fraction(22))
 
@@ -92,3 +97,59 @@ def test_a_report_of_the_wrong_length_is_not_intact(cut):
 def test_a_field_outside_its_range_is_refused_naming_it(field, change):
     with pytest.raises(PacketError, match=f"T2T report: {field} at bit"):
         encode_report(T2TReport(**{**REPORT.__dict__, **change}))
+
+
+# --- what a report says of its sender, proved (T2T-01 to T2T-03) ----------------------------------------------------
+
+# property -> (function, text in it, faulty replacement)
+MUTANTS = {
+    # the rear rounded up: a report a centimetre ahead of the sender's min safe rear
+    "t2t_report.rear_at_most_the_true_rear": (
+        t2t_message.report_quantities,
+        "o.floor(rear_m * cm) / cm",
+        "(o.floor(rear_m * cm) + o.const(1)) / cm",
+    ),
+    # the estimate reported without its accuracy: faster than the sender may be
+    "t2t_report.speed_at_most_the_true_speed": (
+        t2t_message.min_speed_mps,
+        "speed_est_mps - speed_accuracy_mps",
+        "speed_est_mps",
+    ),
+    # the time stamp rounded up: a report from the future by up to a millisecond
+    "t2t_report.time_stamp_not_ahead": (
+        t2t_message.report_quantities,
+        "o.floor(sent_s * ms) / ms",
+        "(o.floor(sent_s * ms) + o.const(1)) / ms",
+    ),
+}
+T2T_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("t2t_report.")]
+
+
+def test_every_report_property_has_a_mutant():
+    assert set(MUTANTS) == {p.name for p in T2T_PROPERTIES}
+
+
+@pytest.mark.parametrize("prop", T2T_PROPERTIES, ids=lambda p: p.name)
+def test_proved_by_k_induction(prop, proof_suite_run):
+    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
+    assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
+
+
+@pytest.mark.parametrize("name", sorted(MUTANTS))
+def test_mutant_falsified_and_counterexample_replays(name):
+    run = falsify(PROPERTIES[name], *MUTANTS[name], max_k=1)
+    assert run.killed, run
+
+
+def test_the_bytes_carry_the_quantities_the_node_proves_about(report=REPORT):
+    rear, speed, sent = t2t_message.report_quantities(EXACT, report.rear_m, report.speed_mps, report.sent_s)
+    read = decode_report(encode_report(report), expected_sender_id=report.sender_id).report
+    assert (
+        (read.rear_m, read.speed_mps, read.sent_s)
+        == (rear, speed, sent)
+        == (
+            Fraction("-100.01"),
+            Fraction(22),
+            Fraction("12.345"),
+        )
+    )

@@ -10,6 +10,15 @@ PAGE = Path(__file__).parents[2] / "docs" / "properties.md"
 STALE = f"docs/properties.md is stale: regenerate it with `{COMMAND}`"
 
 
+def _core(cell: str) -> dict | None:
+    """The validity core's complement as the page shows it (``nothing``: the proof needs every part)."""
+    if not cell:
+        return None
+    minimal = not cell.endswith(" (not minimal)")
+    parts = cell.removesuffix(" (not minimal)")
+    return {"unneeded": [] if parts == "nothing" else parts.split(", "), "minimal": minimal}
+
+
 def shipped_verdicts() -> dict[str, dict]:
     """The status, engine, k and seconds of each property row of the shipped page."""
     records = {}
@@ -22,6 +31,7 @@ def shipped_verdicts() -> dict[str, dict]:
                 "engine": row["engine"],
                 "k": int(row["k"]) if row["k"] else None,
                 "seconds": float(row["seconds"]) if row["seconds"] else None,
+                "core": _core(row["not needed"]),
             }
     return records
 
@@ -30,6 +40,16 @@ def test_the_shipped_catalogue_is_generated_from_the_current_registry():
     shipped = shipped_verdicts()
     assert set(shipped) == set(PROPERTIES), STALE
     assert PAGE.read_text(encoding="utf-8") == catalogue_markdown(PROPERTIES.values(), shipped), STALE
+
+
+def test_every_part_the_page_says_a_proof_does_without_is_one_of_the_propertys():
+    for name, record in shipped_verdicts().items():
+        prop = PROPERTIES[name]
+        parts = {f"equation {f}" for f in prop.node.sorts("state")}
+        parts |= {f"assumption {a.name}" for a in prop.assumptions} | {f"lemma {n}" for n in prop.lemmas}
+        if record["engine"] == "k-induction":
+            assert record["core"] is not None, f"{name}: no validity core on the page: {STALE}"
+            assert set(record["core"]["unneeded"]) <= parts, f"{name}: {record['core']}: {STALE}"
 
 
 def test_a_property_without_a_verdict_says_so():
