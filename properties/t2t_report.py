@@ -26,6 +26,7 @@ SENDER_POSITION = Assumption(
     ),
 )
 
+
 def _rear(o, p, s, i, out, nxt):
     min_rear = i.front_min_m - p.train_length_m
     return o.and_(
