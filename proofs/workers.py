@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import multiprocessing
 import signal
+import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
@@ -21,6 +22,14 @@ def _start_worker(setup: Callable[..., None] | None, setup_args: tuple) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     if setup is not None:
         setup(*setup_args)
+
+
+def _await_exit_code(process, timeout_s: float = 5.0) -> None:
+    """Wait until ``process``'s exit code is recorded: the pool's own thread may reap the terminated worker at the
+    same moment (one ``waitpid`` gets its status, the other finds no child), and records it a moment later."""
+    deadline = time.monotonic() + timeout_s
+    while process.exitcode is None and time.monotonic() < deadline:
+        time.sleep(0.001)
 
 
 @contextmanager
@@ -47,5 +56,6 @@ def worker_pool(
             process.terminate()
         for process in processes:
             process.join()
+            _await_exit_code(process)
         raise
     pool.shutdown(wait=True)
