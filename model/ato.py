@@ -107,7 +107,16 @@ def needs_at_least_the_deceleration_of(
     return o.or_(first_distance_m <= o.const(0), o.and_(second_distance_m > o.const(0), first_needs >= second_needs))
 
 
-def ato_target_speed(
+def ato_target_speed(o: Ops, **inputs) -> AtoTarget:
+    """:func:`choose_target` (the same keywords) on checked planning data: a concrete ``planning_decel_mps2`` that
+    is not positive and finite, or ``margin_m`` that is not non-negative and finite, is an :class:`AtoError`
+    naming it; symbolic ones are the proof's business (:func:`ato_preconditions`)."""
+    _check("planning_decel_mps2", inputs.get("planning_decel_mps2"), allow_zero=False)
+    _check("margin_m", inputs.get("margin_m"), allow_zero=True)
+    return choose_target(o, **inputs)
+
+
+def choose_target(
     o: Ops,
     *,
     front_m,
@@ -148,42 +157,9 @@ def ato_target_speed(
     speed unless a speed limit nearer than the MA needs a larger deceleration (then its braking
     pattern reaches the MA's location at or below the MA speed): ATO-01 to ATO-04 prove both.
 
-    Concrete ``planning_decel_mps2`` and ``margin_m`` are validated (:class:`AtoError`); symbolic
-    ones are the proof's business (:func:`ato_preconditions`).
+    :func:`ato_target_speed` checks concrete planning data first; the node :data:`ATO` proves the rules on any
+    data :func:`ato_preconditions` admits.
     """
-    _check("planning_decel_mps2", planning_decel_mps2, allow_zero=False)
-    _check("margin_m", margin_m, allow_zero=True)
-    return choose_target(
-        o,
-        front_m=front_m,
-        speed_mps=speed_mps,
-        line_limit_mps=line_limit_mps,
-        train_max_mps=train_max_mps,
-        next_limit_m=next_limit_m,
-        next_limit_mps=next_limit_mps,
-        ma_end_m=ma_end_m,
-        ma_speed_mps=ma_speed_mps,
-        planning_decel_mps2=planning_decel_mps2,
-        margin_m=margin_m,
-    )
-
-
-def choose_target(
-    o: Ops,
-    *,
-    front_m,
-    speed_mps,
-    line_limit_mps,
-    train_max_mps,
-    next_limit_m,
-    next_limit_mps,
-    ma_end_m,
-    ma_speed_mps,
-    planning_decel_mps2,
-    margin_m,
-) -> AtoTarget:
-    """:func:`ato_target_speed`'s rules on data it has checked (the node :data:`ATO` proves them on any data
-    :func:`ato_preconditions` admits)."""
     cap_mps = o.min(line_limit_mps, train_max_mps)
     limit_target_mps = o.min(next_limit_mps, cap_mps)
     ma_target_mps = o.min(ma_speed_mps, limit_target_mps)

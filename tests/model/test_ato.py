@@ -28,6 +28,7 @@ from atcs.model.ato import (
     LimitsAhead,
     ato_preconditions,
     ato_target_speed,
+    choose_target,
     limits_ahead,
 )
 from atcs.model.curves import FAR_M
@@ -40,7 +41,7 @@ from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES
 from atcs.properties.ato import PROPERTIES as ATO_PROPERTIES
 
-INPUTS = tuple(name for name in inspect.signature(ato_target_speed).parameters if name != "o")
+INPUTS = tuple(name for name in inspect.signature(choose_target).parameters if name != "o")
 
 
 def kmh(value) -> Fraction:
