@@ -185,10 +185,18 @@ def _add_cores(records: list[dict], registry, args, out, err) -> None:
         for record in proved:
             prop = registry[record["name"]]
             lemmas = tuple(registry[name] for name in prop.lemmas)
-            core = validity_core(prop, lemmas, record["k"], args.core_timeout)
+            try:
+                core = validity_core(prop, lemmas, record["k"], args.core_timeout)
+            except ValueError as exc:  # the checks disagree with the proof: say so, keep the verdict as it is
+                record["core"] = None
+                bar.done(record["name"], f"no core {record['name']}: {exc}")
+                out.print(f"[red]{record['name']}: no validity core[/]: {exc}", highlight=False)
+                continue
             record["core"] = core.record()
             bar.done(record["name"], f"core {record['name']}: {len(core.needs)} needed ({core.seconds:.1f} s)")
     for record in proved:  # the flags: an assumption or a lemma no proof needs
+        if record["core"] is None:
+            continue
         unneeded = [part for part in record["core"]["unneeded"] if not part.startswith("equation ")]
         if unneeded:
             out.print(f"{record['name']}: the proof does not need {', '.join(unneeded)}", highlight=False)

@@ -15,7 +15,6 @@ import sys
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
-from pathlib import Path
 
 from atcs.model.ops.symbolic import SYMBOLIC, SymbolicOps, fresh_context
 from atcs.proofs.coverage.sites import DECISION_KINDS, model_modules, statement_lines
@@ -112,9 +111,4 @@ def reach_all(properties: Iterable[Property], progress: Callable[[str], None] = 
     return [found[prop.name] for prop in properties]
 
 
-def source_path(module: str) -> Path:
-    """The file of a module in scope."""
-    return model_modules()[module]
-
-
-__all__ = ["Reached", "reach_all", "reach_node", "source_path"]
+__all__ = ["Reached", "reach_all", "reach_node"]

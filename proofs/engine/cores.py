@@ -88,17 +88,19 @@ class _Checks:
 
 def validity_core(prop: Property, lemmas: tuple[Property, ...], k: int, timeout_s: float) -> ValidityCore:
     """The validity core of ``prop`` proved at depth ``k`` with ``lemmas`` (module docstring); ``timeout_s`` for
-    every check together. Raises ``ValueError`` if the checks with every part do not all come back unsat (the
-    property is not proved at ``k``)."""
+    every check together. Raises ``ValueError`` if a check with every part is satisfiable (the property is not
+    proved at ``k``); if one comes back unknown, every part is kept (the engine's proof used them all: sufficient,
+    not minimal)."""
     start = time.monotonic()
     deadline = start + timeout_s
     with fresh_context():
         checks = _Checks(prop, lemmas, k)
         keep = set(checks.parts)
-        if checks.verdict(keep, deadline) != "unsat":
+        whole = checks.verdict(keep, deadline)
+        if whole == "sat":
             raise ValueError(f"{prop.name} is not proved at depth {k} with all its parts: no validity core")
-        minimal = True
-        for part in checks.parts:
+        minimal = whole == "unsat"
+        for part in checks.parts if minimal else ():
             if time.monotonic() >= deadline:
                 minimal = False
                 break
