@@ -20,12 +20,19 @@ from atcs.model.curves import (
 from atcs.model.deceleration import DECELERATION
 from atcs.model.doors import DCU, DOOR_ENABLE, DOOR_LOOP
 from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE, TARGETS
-from atcs.model.mrsp import MRSP
+from atcs.model.mrsp import MRSP, PROFILE_LOOKUP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
 from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
-from atcs.model.prepared_curves import PREPARED_CONVERTED_CURVES, PREPARED_CURVES, PREPARED_STEPPED_CURVES
+from atcs.model.prepared_curves import (
+    PREPARED_CONVERTED_CURVES,
+    PREPARED_CURVES,
+    PREPARED_STEPPED_CURVES,
+    TABLE_ORDER,
+    TABLE_ORDER_CONVERTED,
+    TABLE_ORDER_STEPPED,
+)
 from atcs.model.psl import MRSP_UPDATE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
@@ -37,6 +44,7 @@ NODES: dict[str, Node] = {
     for node in (
         SUPERVISION,
         MRSP,
+        PROFILE_LOOKUP,
         PSL,
         MRSP_UPDATE,
         DECELERATION,
@@ -44,6 +52,9 @@ NODES: dict[str, Node] = {
         PREPARED_CURVES,
         PREPARED_STEPPED_CURVES,
         PREPARED_CONVERTED_CURVES,
+        TABLE_ORDER,
+        TABLE_ORDER_STEPPED,
+        TABLE_ORDER_CONVERTED,
         PLANT,
         PLANT_PAIR,
         CLOSED_LOOP,

@@ -329,6 +329,16 @@ def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target
     return v_bec, d_bec
 
 
+def bec_train_speed_mps(o: Ops, t: TrainData, n: NationalData, speed_mps, a_est_mps2):
+    """The least of the train's speeds :func:`bec_speed_and_distance` weighs against the target speed
+    (``V + V_delta0 + V_delta1 / 2``, computed as it does): every target whose speed is at or below it has the
+    same ``(V_bec, D_bec)``."""
+    zero = o.const(0)
+    v_d0 = o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)
+    v_d1 = o.max(zero, a_est_mps2) * t.t_traction_s
+    return o.min(speed_mps + v_d0 + v_d1, speed_mps + v_d0 + v_d1 / o.const(2))
+
+
 def curve_locations(
     o: Ops, t: TrainData, n: NationalData, gradient_c: Profile, target: Target, speed_mps, a_est_mps2
 ) -> CurveLocations:
@@ -344,12 +354,18 @@ def curves_from_ebd(
     """:func:`curve_locations` from ``ebd_at(speed)``, where the target's EBD reaches a speed (walked directly, or
     looked up in the target's preprocessed table, :mod:`atcs.model.prepared_curves`)."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebi = ebd_at(v_bec) - d_bec
-    sbi = ebi - speed_mps * t.t_bs_s
+    ebi_m = ebd_at(v_bec) - d_bec
+    return curves_from_ebd_and_ebi(o, t, n, ebd_at(speed_mps), ebi_m, speed_mps)
+
+
+def curves_from_ebd_and_ebi(o: Ops, t: TrainData, n: NationalData, ebd_m, ebi_m, speed_mps) -> CurveLocations:
+    """The curves' locations from the EBD's and the EBI's: the SBI, warning, permitted and indication fixed
+    distances at ``speed_mps`` before the EBI (Subset-026 §3.13.9.3)."""
+    sbi = ebi_m - speed_mps * t.t_bs_s
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
-        ebd_m=ebd_at(speed_mps),
-        ebi_m=ebi,
+        ebd_m=ebd_m,
+        ebi_m=ebi_m,
         sbi_m=sbi,
         warning_m=sbi - speed_mps * n.t_warning_s,
         permitted_m=permitted,

@@ -13,7 +13,7 @@ from typing import Generic
 
 from atcs.model.node import Stateless, stateless_node
 from atcs.model.ops import B, N, Ops
-from atcs.model.profile import Profile, lowest_under_train
+from atcs.model.profile import Profile, lowest_under_train, value_at, value_at_bisected
 
 
 def mrsp_at(o: Ops, pisl: Profile, tisl: Profile, ptsl: Profile, ttsl: Profile, train_length_m, front_m):
@@ -89,3 +89,41 @@ MRSP = stateless_node(
 """The MRSP as a node for proofs: up to 4 PISL segments and 2 of each other profile (zero-length
 segments allowed, so fewer segments are covered too), all breakpoints, limits and the train length
 symbolic."""
+
+
+@dataclass(frozen=True)
+class ProfileLookupParams(Generic[N, B]):
+    starts_m: tuple[N, ...]
+    values: tuple[N, ...]
+    end_m: N
+
+
+@dataclass(frozen=True)
+class ProfileLookupQuery(Generic[N, B]):
+    x_m: N
+
+
+@dataclass(frozen=True)
+class ProfileLookupOutputs(Generic[N, B]):
+    chained: N
+    """:func:`~atcs.model.profile.value_at`: the chain over every breakpoint."""
+    bisected: N
+    """:func:`~atcs.model.profile.value_at_bisected`."""
+
+
+def profile_lookup_step(o: Ops, p: ProfileLookupParams, s: Stateless, i: ProfileLookupQuery):
+    profile = Profile(p.starts_m, p.values, p.end_m)
+    return s, ProfileLookupOutputs(chained=value_at(o, profile, i.x_m), bisected=value_at_bisected(o, profile, i.x_m))
+
+
+PROFILE_LOOKUP = stateless_node(
+    name="profile_lookup",
+    params=ProfileLookupParams,
+    inputs=ProfileLookupQuery,
+    outputs=ProfileLookupOutputs,
+    step=profile_lookup_step,
+    seed="002 §3.2",
+    sizes={"starts_m": 9, "values": 9},
+)
+"""A profile's value at a position two ways, every breakpoint and value symbolic: up to 9 segments (a
+bisection's every path over 8 inner breakpoints, fewer segments being the same profile split at equal values)."""

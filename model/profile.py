@@ -129,6 +129,12 @@ def value_at(o: Ops, profile: Profile, x_m):
     return step_lookup(o, profile.starts_m, profile.values, x_m)
 
 
+def value_at_bisected(o: Ops, profile: Profile, x_m):
+    """:func:`value_at` by bisection over the breakpoints (``Ops.first_above``): the same value on a well-formed
+    profile (MRSP-08), in a logarithmic number of comparisons on concrete numbers."""
+    return o.select(profile.values, o.first_above(profile.starts_m[1:], x_m))
+
+
 def min_over(o: Ops, profile: Profile, from_m, to_m):
     """The lowest value on ``[from_m, to_m]`` (``from_m <= to_m``): the value at ``from_m`` and
     every segment that starts in ``(from_m, to_m]``."""

@@ -26,7 +26,6 @@ from atcs.model.curves import (
     GUIDANCE_CURVES,
     STEPPED_CURVES,
     CurveLocations,
-    bec_speed_and_distance,
     curve_gradient,
     curve_locations,
     curve_target,
@@ -39,9 +38,10 @@ from atcs.model.prepared_curves import (
     PREPARED_CONVERTED_CURVES,
     PREPARED_CURVES,
     PREPARED_STEPPED_CURVES,
+    TABLE_ORDER,
+    TABLE_ORDER_CONVERTED,
+    TABLE_ORDER_STEPPED,
     braking_table,
-    nearest_locations_m,
-    table_lowest_decel_mps2,
 )
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, is_well_formed
 from atcs.model.train_data import (
@@ -144,6 +144,13 @@ QUERY = Assumption(
         -p.max_acceleration_mps2 <= i.a_est_mps2,
         i.a_est_mps2 <= p.max_acceleration_mps2,
     ),
+)
+
+
+SPEED_PAIR = Assumption(
+    "speed_pair",
+    "both speeds >= 0",
+    lambda o, p, s, i: o.and_(i.slower_mps >= o.const(0), i.faster_mps >= o.const(0)),
 )
 
 
@@ -317,12 +324,8 @@ def _table_ascending(o, p, s, i, out, nxt):
     return o.and_(*(keys[c] <= keys[c + 1] for c in range(len(keys) - 1)))
 
 
-def _nearest_bound(o, p, s, i, out, nxt):
-    target = curve_target(p)
-    lowest = table_lowest_decel_mps2(o, braking_table(o, p, p, curve_gradient(p), target))
-    v_bec, d_bec = bec_speed_and_distance(o, p, p, target, i.speed_mps, i.a_est_mps2)
-    ebd_m, ebi_m = nearest_locations_m(o, target, lowest, i.speed_mps, v_bec, d_bec)
-    return o.and_(out.ebd_m >= ebd_m, out.ebi_m >= ebi_m)
+def _table_order(o, p, s, i, out, nxt):
+    return o.implies(i.slower_mps <= i.faster_mps, out.faster_ebd_m <= out.slower_ebd_m)
 
 
 def sized_node(node, fixed: dict):
@@ -340,13 +343,14 @@ def sized_node(node, fixed: dict):
 _SIZED: dict = {}
 
 
-def prepared_node(fixed: dict):
-    """The prepared-curves node whose brake tables have the sizes of ``fixed``'s (as :func:`curve_node`)."""
-    sizes = {key: len(fixed[key]) for key in PREPARED_CURVES.sizes if key in fixed}
-    for node in (PREPARED_CURVES, PREPARED_STEPPED_CURVES, PREPARED_CONVERTED_CURVES):
+def prepared_node(fixed: dict, variants=(PREPARED_CURVES, PREPARED_STEPPED_CURVES, PREPARED_CONVERTED_CURVES)):
+    """The prepared-curves node (or another of ``variants``) whose brake tables have the sizes of ``fixed``'s
+    (as :func:`curve_node`)."""
+    sizes = {key: len(fixed[key]) for key in variants[0].sizes if key in fixed}
+    for node in variants:
         if {**node.sizes, **sizes} == node.sizes:
             return node
-    return sized_node(PREPARED_CURVES, fixed)
+    return sized_node(variants[0], fixed)
 
 
 def curve_node(fixed: dict):
@@ -488,7 +492,7 @@ def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> 
 
 
 def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
-    """The properties of the curves preprocessed per authority (CRV-13, 14, 15) for one set of fixed data, named
+    """The properties of the curves preprocessed per authority (CRV-13, 14, 16) for one set of fixed data, named
     ``curves.<kind>_<preset>``: proved for the presets; a configuration's trains and the envelopes do not prove
     them yet."""
     return (
@@ -521,18 +525,17 @@ def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
             fixed_params=fixed,
         ),
         Property(
-            name=f"curves.table_bounds_nearness_{preset}",
-            requirement="CRV-15",
-            seed="002 §3.2 (preprocessing), 000 §2.4.2",
+            name=f"curves.table_order_{preset}",
+            requirement="CRV-16",
+            seed="002 §3.2 (preprocessing), 000 §2.4",
             text=(
-                f"With the {preset} data and the design gradients: the EBD lies no nearer than the target's "
-                "location less v^2 / (2 * the least deceleration of the target's table), the EBI no nearer than "
-                "that for V_bec less D_bec: what lets supervision skip the targets beyond a braking distance of "
-                "the nearest constraint."
+                f"With the {preset} data and the design gradients: the tabled EBD reaches a faster speed no "
+                "nearer the target than a slower one (at or below the foot, FAR_M): what lets an envelope drop, "
+                "speed band by speed band, the targets that cannot be the nearest."
             ),
-            node=prepared_node(fixed),
-            holds=_nearest_bound,
-            assumptions=(TRACK_AND_TARGET, QUERY),
+            node=prepared_node(fixed, (TABLE_ORDER, TABLE_ORDER_STEPPED, TABLE_ORDER_CONVERTED)),
+            holds=_table_order,
+            assumptions=(TRACK_AND_TARGET, SPEED_PAIR),
             fixed_params=fixed,
         ),
     )

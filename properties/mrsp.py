@@ -13,7 +13,7 @@ to the nodes' capacities, all symbolic.
 
 from __future__ import annotations
 
-from atcs.model.mrsp import MRSP, mrsp_profiles
+from atcs.model.mrsp import MRSP, PROFILE_LOOKUP, mrsp_profiles
 from atcs.model.profile import Profile, is_well_formed, lowest_under_train, min_over, value_at
 from atcs.model.psl import MRSP_UPDATE, PSL, UPDATE_WINDOW, filter_convex_bumps, psl_profiles
 from atcs.properties.property import Assumption, Property
@@ -90,6 +90,13 @@ UPDATE_DATA = Assumption(
     "lie on the line with positive lengths and limits; the updated one starts in the window's first "
     "segment or later (what bisection guarantees); the train length is >= 0",
     _update_data_ok,
+)
+
+
+LOOKUP_PROFILE_WELL_FORMED = Assumption(
+    "lookup_profile_well_formed",
+    "the profile starts at 0 and its breakpoints increase strictly up to its end",
+    lambda o, p, s, i: is_well_formed(o, Profile(p.starts_m, p.values, p.end_m)),
 )
 
 
@@ -211,5 +218,18 @@ PROPERTIES = (
             o.eq(out.withdrawn_incremental_mps, out.withdrawn_full_mps),
         ),
         assumptions=(UPDATE_DATA, FRONT_ON_LINE),
+    ),
+    Property(
+        name="mrsp.bisected_lookup_equals_chain",
+        requirement="MRSP-08",
+        seed="002 §3.2",
+        text=(
+            "On a well-formed profile of up to 9 segments, the value at any position (on, before or past the "
+            "line) found by bisection over the breakpoints is the value the chain over every breakpoint gives: "
+            "what lets supervision on concrete data read the MRSP in logarithmic time."
+        ),
+        node=PROFILE_LOOKUP,
+        holds=lambda o, p, s, i, out, nxt: o.eq(out.bisected, out.chained),
+        assumptions=(LOOKUP_PROFILE_WELL_FORMED,),
     ),
 )

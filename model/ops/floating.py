@@ -63,16 +63,22 @@ class FloatOps:
         return bool(value)
 
     def ite(self, cond, then, else_):
+        if type(cond) in _SCALARS and type(then) in _SCALARS and type(else_) in _SCALARS:
+            return then if cond else else_
         if _any_array(cond, then, else_):
             return np.where(cond, then, else_)
         return then if cond else else_
 
     def min(self, first, *rest):
+        if len(rest) == 1 and type(first) in _SCALARS and type(rest[0]) in _SCALARS:
+            return min(first, rest[0])
         if _any_array(first, *rest):
             return reduce(np.minimum, rest, np.asarray(first))
         return min(first, *rest) if rest else first
 
     def max(self, first, *rest):
+        if len(rest) == 1 and type(first) in _SCALARS and type(rest[0]) in _SCALARS:
+            return max(first, rest[0])
         if _any_array(first, *rest):
             return reduce(np.maximum, rest, np.asarray(first))
         return max(first, *rest) if rest else first
@@ -101,6 +107,8 @@ class FloatOps:
         return bool(left == right)
 
     def select(self, values, index):
+        if type(index) is float and index.is_integer() and 0 <= index < len(values):  # the common case, at once
+            return values[int(index)]
         check_table("select", values)
         if not _is_array(index):  # one entry, whatever the others are (an array entry stays an array)
             j = whole_index(index, len(values))
@@ -122,6 +130,8 @@ class FloatOps:
         return matches.any(axis=0), matches.argmax(axis=0).astype(float)
 
     def first_above(self, keys, key):
+        if not keys:
+            return np.zeros(np.shape(key)) if _is_array(key) else 0.0
         if not _is_array(key) and not _is_array(keys[0]) and not _is_array(keys[-1]):
             try:  # an array among the keys makes a comparison ambiguous, so it raises, never misleads
                 return float(bisect.bisect_right(keys, key))

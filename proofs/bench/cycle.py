@@ -2,32 +2,35 @@
 measured side by side in one run:
 
 - *preprocessed*, the simulator's way (:mod:`atcs.model.prepared_curves`): each target's EBD tabled once per
-  horizon (its cost reported apart), each cycle a bisection per target ahead;
+  horizon, the envelopes of the targets ahead built once each time the train passes a target (both costs
+  reported apart), each cycle a bisection in a few envelopes;
 - *direct*: :func:`~atcs.model.dynamic_profile.supervise_position`, every target's EBD walked twice a cycle;
 - *per-metre arrays*, the strongest simple alternative: each target's EBD integrated metre by metre with
   ``np.cumsum`` once per horizon, each cycle the least over the targets ahead at the front plus each curve's
   offset.
 
 Warm-up first, then each cycle's time is the median of repeated runs; CPU time beside wall time. The preprocessed
-and direct curves must be equal (CRV-13 proves them so on exact numbers; here on floats); the arrays' EBI and SBI
-decisions must agree with them except within their 1 m rounding of a curve. Then the closed-loop proof time.
+and direct curves must be equal to the last bit (CRV-13, CRV-16 and MRSP-08 prove what makes them so on exact
+numbers); the arrays' EBI and SBI decisions must agree with them except within their 1 m rounding of a curve. Then
+the closed-loop proof time.
 """
 
 from __future__ import annotations
 
+import bisect
 import statistics
 import time
 from collections.abc import Callable
-from dataclasses import fields
+from dataclasses import fields, replace
 
 import numpy as np
 from rich.console import Console
 from rich.table import Table
 
-from atcs.model.curves import CurveLocations, adhesion_factor, bec_speed_and_distance, gradient_acceleration_mps2
+from atcs.model.curves import adhesion_factor, bec_speed_and_distance, gradient_acceleration_mps2
 from atcs.model.dynamic_profile import Horizon, ceilings, supervise_position, supervised_targets
 from atcs.model.ops.floating import FLOAT
-from atcs.model.prepared_curves import prepare_horizon, supervise_prepared
+from atcs.model.prepared_curves import prepare_horizon, supervise_prepared, targets_ahead
 from atcs.model.profile import gradient_profile, speed_profile, value_at
 from atcs.model.restrictions import as_float
 from atcs.model.train_data import seed000_train, subset026_national
@@ -92,10 +95,6 @@ class PerMetreCurves:
         }
 
 
-def _same_curves(a: CurveLocations, b: CurveLocations) -> bool:
-    return all(abs(getattr(a, f.name) - getattr(b, f.name)) <= 1e-6 for f in fields(CurveLocations))
-
-
 def bench_cycle(
     console: Console,
     cycles: int = 60,
@@ -119,7 +118,7 @@ def bench_cycle(
             (synthetic_horizon(rng, segments), float(rng.uniform(0, 1200)), float(rng.uniform(0, 80 / 3.6)))
             for _ in range(cycles)
         ]
-        timing = {"prepared": [], "direct": [], "per_metre": [], "prepare": [], "per_metre_prepare": []}
+        timing = {key: [] for key in ("prepared", "direct", "per_metre", "prepare", "envelopes", "per_metre_prepare")}
         targets = []
         for horizon, front, speed in cases:
             progress(done, total)
@@ -128,10 +127,14 @@ def bench_cycle(
             arrays = PerMetreCurves(t, n, horizon)
             timing["prepare"].append(median_seconds(lambda h=horizon: prepare_horizon(FLOAT, t, n, h), 1))
             timing["per_metre_prepare"].append(median_seconds(lambda h=horizon: PerMetreCurves(t, n, h), 1))
+            first = bisect.bisect_right(prepared.decrease_starts_m, front)
+            timing["envelopes"].append(
+                median_seconds(lambda p=prepared, k=first: targets_ahead(FLOAT, replace(p, envelopes={}), k), 1)
+            )
             fast = supervise_prepared(FLOAT, t, n, prepared, front, speed, a_est)
             slow = supervise_position(FLOAT, t, n, horizon, front, speed, a_est)
             decisions = arrays.cycle(front, speed, a_est)
-            if fast[0] != slow[0] or not _same_curves(fast[1], slow[1]):
+            if fast != slow:
                 raise AssertionError(
                     f"bench cycle: preprocessed and direct curves differ at {segments} segments, front {front} m, "
                     f"speed {speed} m/s: {fast[1]} against {slow[1]}"
@@ -182,6 +185,7 @@ def _print(console: Console, cycles: int, rows, results) -> None:
         "per-metre arrays (µs)",
         "direct / preprocessed",
         "tables per MA (µs)",
+        "envelopes per target passed (µs)",
         "arrays per MA (µs)",
     ):
         table.add_column(col, justify="right")
@@ -194,13 +198,14 @@ def _print(console: Console, cycles: int, rows, results) -> None:
             f"{m['per_metre'] * 1e6:,.1f}",
             f"{m['direct'] / m['prepared']:,.1f}x",
             f"{m['prepare'] * 1e6:,.0f}",
+            f"{m['envelopes'] * 1e6:,.0f}",
             f"{m['per_metre_prepare'] * 1e6:,.0f}",
         )
     console.print(table)
     console.print(
-        f"preprocessed curves equal the direct walk's in every cycle; the per-metre arrays' EBI and SBI decisions "
-        f"agree in {results['agree']} of {results['compared']} checks (any difference within their 1 m rounding "
-        f"of a curve); {results['cpu_s']:.1f} s CPU, {results['wall_s']:.1f} s wall"
+        f"preprocessed curves equal the direct walk's in every cycle, to the last bit; the per-metre arrays' EBI "
+        f"and SBI decisions agree in {results['agree']} of {results['compared']} checks (any difference within their "
+        f"1 m rounding of a curve); {results['cpu_s']:.1f} s CPU, {results['wall_s']:.1f} s wall"
     )
 
 

@@ -251,9 +251,9 @@ MUTANTS = {
             "exit_speed2=(end_speed2, *entry_speed2[1:])",
         ),
     ],
-    "table_bounds_nearness": [
-        # the table's greatest deceleration taken for its least: the bound nearer than the curve can lie
-        (prepared_curves.table_lowest_decel_mps2, "o.min(*table.decel_mps2)", "o.max(*table.decel_mps2)"),
+    "table_order": [
+        # the cell's rise added to its entry: the curve recedes as the speed rises within a cell
+        (prepared_curves.table_location_m, "inside_m = entry_m - rise2", "inside_m = entry_m + rise2"),
     ],
     "ebi_from_brake_build_up": [
         # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows

@@ -94,7 +94,7 @@ class TestTableLookup:
         """Not ascending: the search's own answer in every backend, so the backends agree on any data."""
         o = backends()[name]
         read = sym_value if name == "symbolic" else (lambda v: v)
-        for keys, key in [((5, 1, 2), 1), ((5, 1, 2), 6), ((3, 9, 0, 4, 1), 2), ((2,), 2)]:
+        for keys, key in [((5, 1, 2), 1), ((5, 1, 2), 6), ((3, 9, 0, 4, 1), 2), ((2,), 2), ((), 4)]:
             got = read(o.first_above(tuple(o.const(k) for k in keys), o.const(key)))
             assert got == bisect.bisect_right(keys, key), (keys, key)
 
@@ -111,6 +111,7 @@ class TestTableLookup:
     def test_first_above_float_batch(self):
         index = FLOAT.first_above((1.0, 3.0, 3.0, 8.0), np.array([0.0, 3.0, 7.5, 9.0]))
         assert index.tolist() == [0.0, 3.0, 3.0, 4.0]
+        assert FLOAT.first_above((), np.array([1.0, 2.0])).tolist() == [0.0, 0.0]
 
     def test_float_batch(self):
         picked = FLOAT.select((5.0, 6.0, 7.0), np.array([0.0, 2.0, 5.0, 1.5]))

@@ -1,5 +1,6 @@
 """Supervision on preprocessed curves (:mod:`atcs.model.prepared_curves`) gives what the direct walk gives, on
-floats and on exact numbers, its two shortcuts included; the tables are kept while only the EoA moves."""
+floats and on exact numbers; an envelope's least is the least over its targets at every speed, from few of them;
+the tables are kept while only the EoA moves."""
 
 from dataclasses import replace
 from fractions import Fraction
@@ -53,23 +54,63 @@ def test_the_same_supervision_on_exact_numbers():
         assert prepared == direct
 
 
-def test_set_aside_targets_are_looked_up_when_nothing_else_constrains():
-    """At standstill braking (no curve of any target below FAR_M, less D_bec), every target set aside is looked up
-    in the end, so the curves are the direct walk's to the last digit."""
+def test_the_same_supervision_at_standstill_braking():
+    """No curve of any target below FAR_M: every envelope's least is FAR_M, as the direct walk's."""
     horizon = synthetic_horizon(np.random.default_rng(3), 20)
     direct, prepared = _both(FLOAT, TRAIN_F, NATIONAL_F, horizon, 10.0, 0.0, -1.0)
     assert prepared == direct and direct[1].ebd_m == prepared_curves.FAR_M
 
 
-def test_the_walk_over_targets_stops_early(monkeypatch):
-    """The nearest constraint found, the targets beyond a braking distance of it are not looked up."""
-    looked_up = []
-    real = prepared_curves.prepared_curve_locations
-    monkeypatch.setattr(prepared_curves, "prepared_curve_locations", lambda *a: looked_up.append(a[3]) or real(*a))
+def _exact_horizon(seed: int, segments: int) -> Horizon:
+    h = synthetic_horizon(np.random.default_rng(seed), segments)
+    return Horizon(_exact(h.mrsp), _exact(h.gradient), Fraction(h.eoa_m), Fraction(0))
+
+
+def _least_everywhere(envelope, speeds) -> bool:
+    return all(
+        prepared_curves.envelope_location_m(EXACT, envelope, u)
+        == min(
+            prepared_curves.tabled_ebd_location_m(EXACT, g, table, u)
+            for g, table in zip(envelope.targets, envelope.tables, strict=True)
+        )
+        for u in speeds
+    )
+
+
+SPEEDS = (*(Fraction(k, 8) for k in range(0, 8 * 40)), Fraction(1000))
+"""Every eighth of a m/s to 40 m/s (the grid's edges and the bands' insides), and one far above the grid."""
+
+
+def test_an_envelope_is_the_least_of_its_targets_at_every_speed():
+    prepared = prepare_horizon(EXACT, TRAIN, NATIONAL, _exact_horizon(13, 12))
+    ahead = prepared_curves.targets_ahead(EXACT, prepared, 0)
+    assert len(ahead.every.targets) > 3
+    assert _least_everywhere(ahead.every, SPEEDS)
+    assert all(_least_everywhere(e, SPEEDS[::7]) for e in (*ahead.alike, *ahead.alone))
+
+
+def test_a_band_keeping_only_the_nearest_at_its_bottom_is_caught(monkeypatch):
+    """Where two targets' curves cross inside a band, the band must keep both: the rule narrowed to the nearest
+    at the band's bottom gives a wrong least, and the check above sees it."""
+    monkeypatch.setattr(prepared_curves, "envelope_band", lambda o, bottom, top, slack: (bottom.index(min(bottom)),))
+    prepared = prepare_horizon(EXACT, TRAIN, NATIONAL, _exact_horizon(13, 12))
+    assert not _least_everywhere(prepared_curves.targets_ahead(EXACT, prepared, 0).every, SPEEDS)
+
+
+def test_a_band_keeps_every_target_that_can_be_nearest_in_it():
+    # at the bottom target 1 is nearest; at the top target 0 is within its reach, target 2 is not
+    assert prepared_curves.envelope_band(EXACT, (5, 3, 9), (1, 2, 8), Fraction(0)) == (1, 0)
+    # below every foot (FAR_M at the top): the first, wherever the others are
+    far = prepared_curves.FAR_M
+    assert prepared_curves.envelope_band(EXACT, (far, far), (far, far), Fraction(0)) == (0,)
+
+
+def test_envelopes_keep_few_targets_per_band():
     horizon = synthetic_horizon(np.random.default_rng(11), 80)
     prepared = prepare_horizon(FLOAT, TRAIN_F, NATIONAL_F, horizon)
-    supervise_prepared(FLOAT, TRAIN_F, NATIONAL_F, prepared, 0.0, 20.0, 0.8)
-    assert 0 < len(looked_up) < len(prepared.targets)
+    every = prepared_curves.targets_ahead(FLOAT, prepared, 0).every
+    kept = [len(band) for band in every.nearest]
+    assert len(every.targets) > 10 and sum(kept) / len(kept) < 2
 
 
 def test_tables_kept_while_only_the_eoa_moves():

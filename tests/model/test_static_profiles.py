@@ -209,6 +209,8 @@ MUTANTS = {
     # seed 002's literal Fig. 4(e): the bump takes the preceding segment's limit
     "mrsp.bump_filter_neutral": (psl.filter_convex_bumps, "o.max(before, after)", "before"),
     "mrsp.incremental_equals_full": (psl.affected_m, "r.end_m + train_length_m", "r.end_m"),
+    # the bisection over every breakpoint, the first included: one segment late everywhere
+    "mrsp.bisected_lookup_equals_chain": (profile.value_at_bisected, "profile.starts_m[1:]", "profile.starts_m"),
     "deceleration.compensated_gradient_below_real": (
         deceleration.compensated_gradient_permille,
         "(gradient,), train_length_m",

@@ -253,9 +253,11 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
     )
     assert results["agree"] == results["compared"] == 20  # EBI and SBI of 10 cycles; preprocessed == direct too
     assert reported == [(done, 10) for done in range(10)]  # `atcs bench` shows the time left from these
-    assert all(results[f"{n}_{k}_s"] > 0 for n in (5, 20) for k in ("prepared", "direct", "per_metre", "prepare"))
+    timed = ("prepared", "direct", "per_metre", "prepare", "envelopes")
+    assert all(results[f"{n}_{k}_s"] > 0 for n in (5, 20) for k in timed)
     text = console.export_text()
     assert "direct / preprocessed" in text and "per-metre arrays" in text and "tables per MA" in text
+    assert "envelopes per target passed" in text
 
 
 def test_sim_benchmark_prints_the_cost_per_fleet():
