@@ -185,7 +185,7 @@ def _print(console: Console, cycles: int, rows, results) -> None:
         "per-metre arrays (µs)",
         "direct / preprocessed",
         "tables per MA (µs)",
-        "envelopes per target passed (µs)",
+        "envelopes (µs)",
         "arrays per MA (µs)",
     ):
         table.add_column(col, justify="right")

@@ -246,7 +246,7 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
 
     from atcs.proofs.bench.cycle import bench_cycle
 
-    console = Console(record=True, width=160)
+    console = Console(record=True, width=200)
     reported = []
     results = bench_cycle(
         console, cycles=5, segment_counts=(5, 20), prove_closed_loop=False, progress=lambda *at: reported.append(at)
@@ -257,7 +257,7 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
     assert all(results[f"{n}_{k}_s"] > 0 for n in (5, 20) for k in timed)
     text = console.export_text()
     assert "direct / preprocessed" in text and "per-metre arrays" in text and "tables per MA" in text
-    assert "envelopes per target passed" in text
+    assert "envelopes (µs)" in text
 
 
 def test_sim_benchmark_prints_the_cost_per_fleet():
