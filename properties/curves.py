@@ -26,6 +26,9 @@ from atcs.model.curves import (
     GUIDANCE_CURVES,
     STEPPED_CURVES,
     CurveLocations,
+    Target,
+    bec_speed_and_distance,
+    bec_train_speed_mps,
     curve_gradient,
     curve_locations,
     curve_target,
@@ -324,6 +327,15 @@ def _table_ascending(o, p, s, i, out, nxt):
     return o.and_(*(keys[c] <= keys[c + 1] for c in range(len(keys) - 1)))
 
 
+def _bec_alike(o, p, s, i, out, nxt):
+    target = curve_target(p)
+    standstill = Target(target.location_m, o.const(0), target.ebd_foot_mps)
+    own = bec_speed_and_distance(o, p, p, target, i.speed_mps, i.a_est_mps2)
+    alike = bec_speed_and_distance(o, p, p, standstill, i.speed_mps, i.a_est_mps2)
+    slow = p.target_speed_mps <= bec_train_speed_mps(o, p, p, i.speed_mps, i.a_est_mps2)
+    return o.implies(slow, o.and_(*(o.eq(a, b) for a, b in zip(own, alike, strict=True))))
+
+
 def _table_order(o, p, s, i, out, nxt):
     return o.implies(i.slower_mps <= i.faster_mps, out.faster_ebd_m <= out.slower_ebd_m)
 
@@ -492,7 +504,7 @@ def curve_properties(preset: str, fixed: dict, guidance: dict | None = None) -> 
 
 
 def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
-    """The properties of the curves preprocessed per authority (CRV-13, 14, 16) for one set of fixed data, named
+    """The properties of the curves preprocessed per authority (CRV-13, 14, 16, 17) for one set of fixed data, named
     ``curves.<kind>_<preset>``: proved for the presets; a configuration's trains and the envelopes do not prove
     them yet."""
     return (
@@ -536,6 +548,20 @@ def table_properties(preset: str, fixed: dict) -> tuple[Property, ...]:
             node=prepared_node(fixed, (TABLE_ORDER, TABLE_ORDER_STEPPED, TABLE_ORDER_CONVERTED)),
             holds=_table_order,
             assumptions=(TRACK_AND_TARGET, SPEED_PAIR),
+            fixed_params=fixed,
+        ),
+        Property(
+            name=f"curves.bec_alike_below_train_speed_{preset}",
+            requirement="CRV-17",
+            seed="000 §2.4.2 (Subset-026 3.13.9.3.3)",
+            text=(
+                f"With the {preset} data: every target whose speed is at or below the train's own term of V_bec "
+                "(v + V_d0 + V_d1/2, the lesser of the two) has the V_bec and D_bec of a target at standstill: "
+                "what lets supervision locate the EBI of all of them in one envelope."
+            ),
+            node=prepared_node(fixed),
+            holds=_bec_alike,
+            assumptions=(TRACK_AND_TARGET, QUERY),
             fixed_params=fixed,
         ),
     )

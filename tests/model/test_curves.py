@@ -255,6 +255,16 @@ MUTANTS = {
         # the cell's rise added to its entry: the curve recedes as the speed rises within a cell
         (prepared_curves.table_location_m, "inside_m = entry_m - rise2", "inside_m = entry_m + rise2"),
     ],
+    "bec_alike_below_train_speed": [
+        # the train's term without V_delta1's half: targets between it and the true term taken for alike
+        (curves.bec_train_speed_mps, ", speed_mps + v_d0 + v_d1 / o.const(2))", ")"),
+        # a metre per second of slack: targets just above the train's speed taken for alike
+        (
+            curves.bec_train_speed_mps,
+            "o.min(speed_mps + v_d0 + v_d1, speed_mps + v_d0 + v_d1 / o.const(2))",
+            "speed_mps + o.const(1)",
+        ),
+    ],
     "ebi_from_brake_build_up": [
         # T_berem = T_be: a longer build-up, safe but not the stated curve (arith_drop at +4), which CRV-02 allows
         (curves.bec_speed_and_distance, "o.max(zero, t.t_be_s - t.t_traction_s)", "o.max(zero, t.t_be_s)"),
@@ -272,6 +282,7 @@ EQUIVALENT_FOR = {
         "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)",  # V_ura 0, and inhibited
         "o.max(zero, t.t_be_s - t.t_traction_s)",  # T_traction 0
         "t.service_speeds_mps, t.service_decelerations_mps2",  # A_brake_service = A_brake_safe
+        ", speed_mps + v_d0 + v_d1 / o.const(2))",  # T_traction 0: no V_delta1
     }
     for preset in ("gamma", "lambda")
 }
