@@ -5,7 +5,8 @@ For each train on each line, with the train's data and the configuration's natio
 
 - every **gradient transition** of the line (each pair of adjacent values of its profile compensated by the
   train's length, the breakpoint symbolic; a line of one gradient gives the pair of it with itself): the curve
-  properties (CRV-01, 02, 06, 08, 10, 11; CRV-12 for a train with a normal service brake);
+  properties (CRV-01, 02, 06, 08, 10, 11; CRV-12 for a train with a normal service brake), and those of the
+  curves preprocessed per authority (CRV-13, 14, 16, 17; not for a train given as ranges);
 - the **whole line**: CRV-08, the EBD the braking curve through every segment of the line's compensated profile
   (breakpoints and values fixed), to any target on the line;
 - the **closed loop on the line's profile**: CL-00 to CL-06 (no EoA overrun, under the ceiling) for an end of
@@ -51,7 +52,7 @@ from atcs.properties.closed_loop import (
     closed_loop_properties,
     decrease_properties,
 )
-from atcs.properties.curves import curve_properties, sized_node
+from atcs.properties.curves import curve_properties, sized_node, table_properties
 from atcs.properties.property import Assumption, Property
 
 __all__ = [
@@ -66,6 +67,7 @@ __all__ = [
     "loa_in_bands",
     "loop_family",
     "speed_decreases",
+    "table_family",
 ]
 
 
@@ -100,7 +102,20 @@ def gradient_transitions(profile: Profile) -> tuple[tuple[Fraction, Fraction], .
 
 
 def _train_line(config: Configuration, t: ConfiguredTrain, line: Line) -> tuple[Property, ...]:
-    return curve_family(config, t, line) + loop_family(config, t, line)
+    return curve_family(config, t, line) + table_family(t, line) + loop_family(config, t, line)
+
+
+def table_family(t: ConfiguredTrain, line: Line) -> tuple[Property, ...]:
+    """The properties of the curves preprocessed per authority (CRV-13, 14, 16, 17) of train ``t`` on every
+    gradient transition of ``line``, named as :func:`curve_family`'s (a train given as ranges does not have them)."""
+    tag = f"{_slug(t.name)}_{_slug(line.name)}"
+    data = {**as_dict(t.train), **as_dict(t.national)}
+    compensated = compensated_gradients(line, t.train.train_length_m)
+    return tuple(
+        prop
+        for j, pair in enumerate(gradient_transitions(compensated))
+        for prop in table_properties(f"{tag}_{j}", {**data, "gradient_permille": pair})
+    )
 
 
 def curve_family(config: Configuration, t: ConfiguredTrain, line: Line, train=None, suffix="") -> tuple[Property, ...]:

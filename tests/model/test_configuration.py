@@ -187,7 +187,7 @@ def test_properties_for_each_train_line_and_transition(tmp_path):
     config = load_configuration(_write(tmp_path))
     names = [p.name for p in configuration_properties(config)]
     curves = [n for n in names if n.startswith("curves.")]
-    assert len(curves) == 2 * (2 * 6 + 1)  # each train: two transitions, and the whole line
+    assert len(curves) == 2 * (2 * (6 + 4) + 1)  # each train: two transitions (curves, tables), the whole line
     windows = {n.rsplit("_w", 1)[1] for n in names if n.startswith("closed_loop.no_overrun_gamma")}
     profile = compensated_gradients(config.lines[0], config.trains[0].train.train_length_m)
     ends = (*profile.starts_m[1:], profile.end_m)
