@@ -33,7 +33,7 @@ from atcs.model.prepared_curves import (
     TABLE_ORDER_CONVERTED,
     TABLE_ORDER_STEPPED,
 )
-from atcs.model.psl import MRSP_UPDATE, PSL
+from atcs.model.psl import MRSP_UPDATE, PROFILE_SPLICE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
@@ -47,6 +47,7 @@ NODES: dict[str, Node] = {
         PROFILE_LOOKUP,
         PSL,
         MRSP_UPDATE,
+        PROFILE_SPLICE,
         DECELERATION,
         CURVES,
         PREPARED_CURVES,

@@ -155,6 +155,22 @@ def spliced_value_at(o: Ops, current: Profile, recomputed: Profile, from_m, to_m
     return o.ite(inside, value_at(o, recomputed, x_m), value_at(o, current, x_m))
 
 
+def splice(o: Ops, current: Profile, recomputed: Profile, from_m, to_m) -> Profile:
+    """``current`` with ``[from_m, to_m)`` replaced by ``recomputed`` (a profile of that window, its first
+    breakpoint at ``from_m``), as one profile: current's breakpoints before the window, recomputed's, and from
+    ``to_m`` on current's again. Of fixed shape: current's breakpoints inside the window move to ``to_m`` with
+    current's value there, one more breakpoint at ``to_m`` carries it too, and one sort orders them all
+    (MRSP-09: its value is :func:`spliced_value_at`'s at every position from current's start)."""
+    tail = value_at(o, current, to_m)
+    keys, values = [], []
+    for start, value in zip(current.starts_m, current.values, strict=True):
+        inside = o.and_(from_m <= start, start < to_m)
+        keys.append(o.ite(inside, to_m, start))
+        values.append(o.ite(inside, tail, value))
+    keys, values = o.sort_by_key((*keys, *recomputed.starts_m, to_m), (*values, *recomputed.values, tail))
+    return Profile(keys, values, current.end_m)
+
+
 # --- the nodes the proofs quantify over ------------------------------------------------------------
 
 
@@ -270,6 +286,7 @@ MRSP_UPDATE = stateless_node(
 
 __all__ = [
     "MRSP_UPDATE",
+    "PROFILE_SPLICE",
     "PSL",
     "Restriction",
     "affected_m",
@@ -279,6 +296,54 @@ __all__ = [
     "merge_min",
     "permanent_speed_limit",
     "restricted",
+    "splice",
     "spliced_value_at",
     "window",
 ]
+
+
+@dataclass(frozen=True)
+class SpliceParams(Generic[N, B]):
+    current_starts_m: tuple[N, ...]
+    current_values: tuple[N, ...]
+    end_m: N
+    recomputed_starts_m: tuple[N, ...]
+    recomputed_values: tuple[N, ...]
+    from_m: N
+    to_m: N
+
+
+@dataclass(frozen=True)
+class SpliceQuery(Generic[N, B]):
+    x_m: N
+
+
+@dataclass(frozen=True)
+class SpliceOutputs(Generic[N, B]):
+    spliced: N
+    """The value of :func:`splice`'s profile at ``x_m``."""
+    defined: N
+    """:func:`spliced_value_at`'s."""
+
+
+def splice_step(o: Ops, p: SpliceParams, s: Stateless, i: SpliceQuery):
+    current = Profile(p.current_starts_m, p.current_values, p.end_m)
+    recomputed = Profile(p.recomputed_starts_m, p.recomputed_values, p.to_m)
+    return s, SpliceOutputs(
+        spliced=value_at(o, splice(o, current, recomputed, p.from_m, p.to_m), i.x_m),
+        defined=spliced_value_at(o, current, recomputed, p.from_m, p.to_m, i.x_m),
+    )
+
+
+PROFILE_SPLICE = stateless_node(
+    name="profile_splice",
+    params=SpliceParams,
+    inputs=SpliceQuery,
+    outputs=SpliceOutputs,
+    step=splice_step,
+    seed="002 §3.2",
+    sizes={"current_starts_m": 4, "current_values": 4, "recomputed_starts_m": 3, "recomputed_values": 3},
+)
+"""A window's recomputed profile spliced into the stored one, as a node for proofs: 4 stored segments (the ones
+around the window :class:`~atcs.model.restrictions.SpeedRestrictions` cuts out) and 3 recomputed, every
+breakpoint, value and the window symbolic."""

@@ -4,9 +4,9 @@ The wayside computes the PSL once (:func:`~atcs.model.psl.permanent_speed_limit`
 applying or withdrawing a restriction recomputes only the window it affects
 (:func:`~atcs.model.psl.window` and :func:`~atcs.model.psl.restricted`, the step
 functions ``mrsp.incremental_equals_full`` is proved about) and splices the result
-into the stored segment list. Finding the window is a bisection, the splice a
-list-slice assignment: the arithmetic grows with the segments in the window, not
-with the line.
+into the stored segment list (:func:`~atcs.model.psl.splice`, ``mrsp.splice_equals_definition``). Finding the
+window is a bisection, the splice a sort of the segments around it put back by a list-slice assignment: the
+arithmetic grows with the segments in the window, not with the line.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from atcs.model.ops import Ops
 from atcs.model.ops.exact import EXACT
 from atcs.model.profile import KMH_PER_MPS, MAX_SPEED_KMH, Profile, ProfileError, parse_number
-from atcs.model.psl import Restriction, affected_m, permanent_speed_limit, restricted, window
+from atcs.model.psl import Restriction, affected_m, permanent_speed_limit, restricted, splice, window
 
 
 def canonical(profile: Profile) -> Profile:
@@ -107,17 +107,19 @@ class SpeedRestrictions:
         self._splice(from_m, to_m, recomputed)
 
     def _splice(self, from_m, to_m, recomputed: Profile) -> None:
+        """Write ``recomputed`` over ``[from_m, to_m)``: :func:`~atcs.model.psl.splice` (MRSP-09) on the stored
+        segments from the one before the window to the one holding ``to_m``, put back in their place."""
+        if recomputed.starts_m[0] != from_m:  # MRSP-09's assumption, on the data at hand
+            raise AssertionError(f"the recomputed window starts at {recomputed.starts_m[0]}, not at {from_m}")
         starts, values = self._starts, self._values
-        first = bisect.bisect_left(starts, from_m)  # first segment starting in the window
-        last = bisect.bisect_right(starts, to_m) - 1  # the segment holding to_m
-        new_starts, new_values = list(recomputed.starts_m), list(recomputed.values)
-        if to_m < self.end_m:
-            new_starts.append(to_m)
-            new_values.append(values[last])
-        starts[first : last + 1] = new_starts
-        values[first : last + 1] = new_values
-        _merge_equal(starts, values, first + len(recomputed.values))  # the window's end
-        _merge_equal(starts, values, first)  # its start
+        lo = max(bisect.bisect_left(starts, from_m) - 1, 0)  # the segment before the window (or the first)
+        hi = bisect.bisect_right(starts, to_m)  # past the segment holding to_m
+        around = Profile(tuple(starts[lo:hi]), tuple(values[lo:hi]), self.end_m)
+        spliced = canonical(splice(self.ops, around, recomputed, from_m, to_m))
+        starts[lo:hi] = spliced.starts_m
+        values[lo:hi] = spliced.values
+        _merge_equal(starts, values, lo + len(spliced.values))  # with the segment after
+        _merge_equal(starts, values, lo)  # with the one before
 
 
 def _merge_equal(starts: list, values: list, k: int) -> None:

@@ -13,9 +13,11 @@ to the nodes' capacities, all symbolic.
 
 from __future__ import annotations
 
+import itertools
+
 from atcs.model.mrsp import MRSP, PROFILE_LOOKUP, mrsp_profiles
 from atcs.model.profile import Profile, is_well_formed, lowest_under_train, min_over, value_at
-from atcs.model.psl import MRSP_UPDATE, PSL, UPDATE_WINDOW, filter_convex_bumps, psl_profiles
+from atcs.model.psl import MRSP_UPDATE, PROFILE_SPLICE, PSL, UPDATE_WINDOW, filter_convex_bumps, psl_profiles
 from atcs.properties.property import Assumption, Property
 from atcs.properties.under_train import TRAIN_ON_LINE, rear_m
 
@@ -97,6 +99,28 @@ LOOKUP_PROFILE_WELL_FORMED = Assumption(
     "lookup_profile_well_formed",
     "the profile starts at 0 and its breakpoints increase strictly up to its end",
     lambda o, p, s, i: is_well_formed(o, Profile(p.starts_m, p.values, p.end_m)),
+)
+
+
+def _splice_data_ok(o, p, s, i):
+    stored, r = (*p.current_starts_m, p.end_m), p.recomputed_starts_m
+    return o.and_(
+        *(a < b for a, b in itertools.pairwise(stored)),
+        stored[0] <= p.from_m,
+        p.from_m < p.to_m,
+        o.eq(r[0], p.from_m),
+        *(a <= b for a, b in itertools.pairwise(r)),
+        r[-1] <= p.to_m,
+        stored[0] <= i.x_m,
+    )
+
+
+SPLICE_DATA = Assumption(
+    "splice_data",
+    "the stored profile's breakpoints increase strictly (from any start) up to its end; the window [from, to) is "
+    "non-empty and starts at or after the stored profile's start; the recomputed profile's breakpoints start at "
+    "from and never fall, up to to; the position is at or after the stored profile's start",
+    _splice_data_ok,
 )
 
 
@@ -231,5 +255,19 @@ PROPERTIES = (
         node=PROFILE_LOOKUP,
         holds=lambda o, p, s, i, out, nxt: o.eq(out.bisected, out.chained),
         assumptions=(LOOKUP_PROFILE_WELL_FORMED,),
+    ),
+    Property(
+        name="mrsp.splice_equals_definition",
+        requirement="MRSP-09",
+        seed="002 §3.2",
+        text=(
+            "A window's recomputed profile spliced into the stored one (the segment list a temporary restriction's "
+            "update writes) has, at every position from the stored profile's start, the value MRSP-07's "
+            "incremental update is proved with: the recomputed profile's inside the window, the stored one's "
+            "outside."
+        ),
+        node=PROFILE_SPLICE,
+        holds=lambda o, p, s, i, out, nxt: o.eq(out.spliced, out.defined),
+        assumptions=(SPLICE_DATA,),
     ),
 )

@@ -209,6 +209,8 @@ MUTANTS = {
     # seed 002's literal Fig. 4(e): the bump takes the preceding segment's limit
     "mrsp.bump_filter_neutral": (psl.filter_convex_bumps, "o.max(before, after)", "before"),
     "mrsp.incremental_equals_full": (psl.affected_m, "r.end_m + train_length_m", "r.end_m"),
+    # the stored breakpoints inside the window left where they are: the stored profile shows through it
+    "mrsp.splice_equals_definition": (psl.splice, "keys.append(o.ite(inside, to_m, start))", "keys.append(start)"),
     # the bisection over every breakpoint, the first included: one segment late everywhere
     "mrsp.bisected_lookup_equals_chain": (profile.value_at_bisected, "profile.starts_m[1:]", "profile.starts_m"),
     "deceleration.compensated_gradient_below_real": (
