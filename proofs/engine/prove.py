@@ -132,7 +132,34 @@ def prove(
         )
 
 
-def _prove(prop, *, timeout_s, lemmas, max_k, proved, refine, _chain) -> Result:
+def bounded_check(
+    prop: Property,
+    *,
+    depth: int,
+    timeout_s: float = 60.0,
+    lemmas: dict[str, Property] | None = None,
+    proved: dict[str, Result] | None = None,
+) -> Result:
+    """BMC alone, depths 0 to ``depth``, lemmas assumed (proved first, as :func:`prove` does): ``falsified``
+    with the counterexample replayed, or ``unknown`` (engine ``bmc``) saying no counterexample exists up to
+    ``depth`` (a bounded check, not a proof). What finds a fault when the inductive step of a broken model is too
+    hard for the solver: ``atcs mutate`` gives it the properties a mutant leaves unknown."""
+    if isinstance(depth, bool) or not isinstance(depth, int) or depth < 0:
+        raise ValueError(f"depth must be a whole number >= 0, got {depth!r}")
+    with fresh_context():
+        return _prove(
+            prop,
+            timeout_s=timeout_s,
+            lemmas=lemmas,
+            max_k=depth,
+            proved=proved,
+            refine=None,
+            _chain=(),
+            engine=_bmc_to_depth,
+        )
+
+
+def _prove(prop, *, timeout_s, lemmas, max_k, proved, refine, _chain, engine=None) -> Result:
     if timeout_s <= 0:
         raise ValueError(f"timeout_s must be positive, got {timeout_s!r}")
     start = time.monotonic()
@@ -161,7 +188,7 @@ def _prove(prop, *, timeout_s, lemmas, max_k, proved, refine, _chain) -> Result:
         assumed, failure = _assumed_lemmas(prop, lemmas, proved, deadline, refine, _chain)
         if failure is not None:
             return result(*failure)
-        return _k_induction_with_bmc(prop, Unrolling(prop, tuple(assumed)), max_k, deadline, refine, result)
+        return (engine or _k_induction_with_bmc)(prop, Unrolling(prop, tuple(assumed)), max_k, deadline, refine, result)
     except _Timeout:
         return result("unknown", message=f"timeout after {timeout_s:g} s")
     except Exception as exc:  # the model or property could not be built: report, never pass
@@ -191,6 +218,18 @@ def _k_induction_with_bmc(prop, u, max_k, deadline, refine, result) -> Result:
         max_k,
         f"not {max_k}-inductive and no counterexample up to depth {max_k}; an auxiliary lemma may make it inductive",
     )
+
+
+def _bmc_to_depth(prop, u, depth, deadline, refine, result) -> Result:
+    """BMC at depths 0 .. ``depth``: the first counterexample, else unknown with the depth cleared."""
+    bmc = Bmc(u)
+    for k in range(depth + 1):
+        base = bmc.check(k, deadline.remaining())
+        if base.result == "sat":
+            return _counterexample(prop, u, bmc, k, base.model, (refine, deadline), result)
+        if base.result == "unknown":
+            return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+    return result("unknown", "bmc", depth, f"no counterexample up to depth {depth} (a bounded check, not a proof)")
 
 
 def _assumed_lemmas(prop, lemmas, proved, deadline, refine, chain) -> tuple[list[Property], tuple | None]:

@@ -4,7 +4,9 @@ For each mutant (:mod:`atcs.proofs.mutation.sites`) the properties of every node
 function are proved about the mutated model, lemmas included (themselves proved about the mutant first),
 cheapest nodes first; the first property killed ends the mutant's run. Each property first gets an equal share
 of the mutant's time limit, so one slow proof does not starve the properties after it; those left unknown are
-then tried again, in the same order, with the time that is left. Verdicts (``VERDICTS``):
+then given a bounded check (BMC alone to the property's ``max_k`` plus :data:`BOUNDED_DEPTH_BEYOND_K`, within
+the same share: a fault the inductive step is too hard to show may be a short run away), and then tried again, in
+the same order, with the time that is left. Verdicts (``VERDICTS``):
 
 - ``killed``: a property is falsified, its counterexample replays on the mutant at the same step, and the real
   model does not violate it on those inputs (:attr:`atcs.proofs.mutation.mutants.MutantRun.killed`);
@@ -201,45 +203,100 @@ def run_mutant(mutant: Mutant, *, timeout_s: float, nodes: tuple[str, ...] | Non
 def _run_mutant(
     mutant: Mutant, timeout_s: float, nodes: tuple[str, ...] | None, start: float, checks: list[Check]
 ) -> Outcome:
-    from atcs.proofs.engine.prove import prove
-
     props = affected_properties(mutant, nodes)
-    proved: dict = {}
 
     def outcome(verdict, **kw):
         return Outcome(mutant, verdict, time.monotonic() - start, checks=checks, **kw)
 
-    unknown: dict[str, str] = {}  # property -> why it did not kill (a second try may still)
-    done: set[str] = set()  # proved, vacuous, or falsified on the real model too: not tried again
+    run = _Proofs(mutant, props, timeout_s, start, checks, outcome)
     share = timeout_s / max(len(props), 1)
-    for first_pass in (True, False):
-        if not first_pass:  # a lemma that ran out of its share is tried again with the time left
-            _forget_unknown_lemmas(proved)
-        for prop in props if first_pass else [p for p in props if p.name in unknown and p.name not in done]:
-            left = timeout_s - (time.monotonic() - start)
-            if left <= 0:
-                unknown[prop.name] = f"{prop.name}: not run, the mutant's {timeout_s:g} s were spent"
-                _record(checks, Check(prop.name, "not run", 0.0))
-                continue
-            try:
-                with mutated(mutant, props) as registry:
-                    result = prove(
-                        registry[prop.name],
-                        timeout_s=min(left, share) if first_pass else left,
-                        lemmas=registry,
-                        proved=proved,
-                    )
-            except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
-                return outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
-            _record(checks, Check(prop.name, result.status, round(result.seconds, 3), result.message))
-            ending = _outcome_of_proof(prop, result, unknown, done, outcome)
-            if ending is not None:
-                return ending
-    if unknown:
-        return outcome("timeout", message="; ".join(unknown.values()))
+    ending = run.proof_pass(props, share)
+    if ending is None:
+        _forget_unknown_lemmas(run.proved)  # a lemma that ran out of its share is tried again with the time left
+        ending = _bounded_checks(mutant, props, run, share)
+        ending = ending and outcome(**ending)
+    if ending is None:
+        ending = run.proof_pass([p for p in props if p.name in run.unknown and p.name not in run.done], None)
+    if ending is not None:
+        return ending
+    if run.unknown:
+        return outcome("timeout", message="; ".join(run.unknown.values()))
     if not props:
         return outcome("incompetent", message="no selected node's proofs run this function")
     return outcome("survived", message=f"{len(props)} properties proved about the mutant")
+
+
+@dataclass
+class _Proofs:
+    """One mutant's proofs: what each property said so far, and the time its limit leaves."""
+
+    mutant: Mutant
+    props: list[Property]
+    timeout_s: float
+    start: float
+    checks: list[Check]
+    outcome: Callable[..., Outcome]
+    proved: dict = field(default_factory=dict)
+    unknown: dict[str, str] = field(default_factory=dict)  # property -> why it did not kill (a second try may still)
+    done: set[str] = field(default_factory=set)  # proved, vacuous, or falsified on the real model too
+
+    def left(self) -> float:
+        return self.timeout_s - (time.monotonic() - self.start)
+
+    def proof_pass(self, props: list[Property], share: float | None) -> Outcome | None:
+        """Prove ``props`` about the mutant, each within ``share`` (None: the time left): the outcome if one kills
+        it or shows it incompetent, else None."""
+        from atcs.proofs.engine.prove import prove
+
+        for prop in props:
+            left = self.left()
+            if left <= 0:
+                self.unknown[prop.name] = f"{prop.name}: not run, the mutant's {self.timeout_s:g} s were spent"
+                _record(self.checks, Check(prop.name, "not run", 0.0))
+                continue
+            try:
+                with mutated(self.mutant, self.props) as registry:
+                    result = prove(
+                        registry[prop.name],
+                        timeout_s=left if share is None else min(left, share),
+                        lemmas=registry,
+                        proved=self.proved,
+                    )
+            except (SyntaxError, ValueError, TypeError, NameError) as exc:  # the mutant itself cannot be made
+                return self.outcome("incompetent", message=f"{type(exc).__name__}: {exc}")
+            _record(self.checks, Check(prop.name, result.status, round(result.seconds, 3), result.message))
+            ending = _outcome_of_proof(prop, result, self.unknown, self.done, self.outcome)
+            if ending is not None:
+                return ending
+        return None
+
+
+BOUNDED_DEPTH_BEYOND_K = 4
+"""How far past a property's own ``max_k`` the bounded check of a property a mutant leaves unknown looks."""
+
+
+def _bounded_checks(mutant: Mutant, props: list[Property], run: _Proofs, share: float) -> dict | None:
+    """BMC alone (:func:`~atcs.proofs.engine.prove.bounded_check`, to the property's ``max_k`` plus
+    :data:`BOUNDED_DEPTH_BEYOND_K`) on each property the first pass left unknown, each within its share of the
+    time left: the ``outcome`` arguments of a kill, else None (``unknown`` keeps the proofs' messages)."""
+    from atcs.proofs.cex.trace import replay
+    from atcs.proofs.engine.prove import bounded_check
+
+    for prop in [p for p in props if p.name in run.unknown and p.name not in run.done]:
+        budget = min(share, run.left())
+        if budget <= 0:
+            return None
+        with mutated(mutant, props) as registry:
+            result = bounded_check(
+                registry[prop.name], depth=prop.max_k + BOUNDED_DEPTH_BEYOND_K, timeout_s=budget, lemmas=registry
+            )
+        if result.status == "falsified":
+            killed = MutantRun(result, result.replay, replay(prop, result.trace))
+            if killed.killed:
+                message = f"{result.message} (a bounded check: the proof was unknown)"
+                _record(run.checks, Check(prop.name, result.status, round(result.seconds, 3), message))
+                return {"verdict": "killed", "killed_by": prop.name, "k": result.k, "message": message, "run": killed}
+    return None
 
 
 def _forget_unknown_lemmas(proved: dict) -> None:

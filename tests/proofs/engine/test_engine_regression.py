@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from atcs.proofs.cex.trace import reproduce
-from atcs.proofs.engine.prove import prove
+from atcs.proofs.engine.prove import bounded_check, prove
 
 ROOT = Path(__file__).parent / "regression"
 
@@ -113,3 +113,29 @@ def test_node_validates_array_sizes(sizes, message):
 
     with pytest.raises(ValueError, match=message):
         dataclasses.replace(sys.modules["regression_models"].SHIFT, sizes=sizes)
+
+
+BOUNDED = [case for case in CASES if case.values[0].EXPECT[case.values[1].name]["status"] in ("proved", "falsified")]
+
+
+@pytest.mark.parametrize(("module", "prop"), BOUNDED)
+def test_a_bounded_check_finds_the_same_counterexample_and_proves_nothing(module, prop):
+    """BMC alone (what ``atcs mutate`` gives a property a mutant leaves unknown): a falsified model's shortest
+    counterexample, replayed; for a proved one, no counterexample up to the depth, and still not proved."""
+    expect = module.EXPECT[prop.name]
+    lemmas = {p.name: p for p in module.PROPERTIES}
+    depth = expect.get("k", 0) + 2
+    result = bounded_check(prop, depth=depth, timeout_s=expect.get("timeout_s", 120), lemmas=lemmas)
+    if expect["status"] == "falsified":
+        assert (result.status, result.engine) == ("falsified", "bmc") and result.k == expect.get("k", result.k)
+        assert reproduce(prop, result.trace).first_violation == result.k
+    else:
+        assert (result.status, result.engine, result.k) == ("unknown", "bmc", depth)
+        assert result.message == f"no counterexample up to depth {depth} (a bounded check, not a proof)"
+
+
+@pytest.mark.parametrize("depth", [-1, 1.5, True, "2"])
+def test_a_bounded_check_refuses_a_depth_that_is_not_a_whole_number(depth):
+    prop = CASES[0].values[1]
+    with pytest.raises(ValueError, match=f"depth must be a whole number >= 0, got {depth!r}"):
+        bounded_check(prop, depth=depth)

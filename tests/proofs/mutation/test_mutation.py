@@ -165,6 +165,26 @@ class TestCampaign:
         outcome = mutation.run_mutant(m, timeout_s=60)
         assert [limit for _, limit in limits] == [30] * len(limits) and outcome.verdict in ("killed", "survived")
 
+    def test_a_bounded_check_kills_where_the_proof_is_unknown(self, mutants, monkeypatch):
+        """The proofs of a broken model made to end unknown (as an inductive step too hard for the solver does):
+        the bounded check of the unknown properties still finds the fault, replayed and absent from the real
+        model."""
+        m = next(m for m in mutants if m.id == "supervision.supervision_step:+4:cmp_strict:> -> >=")
+        import atcs.proofs.engine.prove as engine
+
+        prove = engine.prove
+
+        def unknown_instead(prop, **kw):
+            result = prove(prop, **kw)
+            if result.status != "falsified":
+                return result
+            return dataclasses.replace(result, status="unknown", message="timeout in the inductive step at depth 0")
+
+        monkeypatch.setattr(engine, "prove", unknown_instead)
+        outcome = mutation.run_mutant(m, timeout_s=60)
+        assert outcome.verdict == "killed" and "a bounded check" in outcome.message, outcome.message
+        assert outcome.run.killed and outcome.run.on_real_model.first_violation is None
+
     def test_a_mutant_that_cannot_be_made_is_incompetent(self, mutants):
         m = dataclasses.replace(mutants[0], old="no such text", new="x")
         outcome = mutation.run_mutant(m, timeout_s=10)
