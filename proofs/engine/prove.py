@@ -202,11 +202,9 @@ def _k_induction_with_bmc(prop, u, max_k, deadline, refine, result) -> Result:
     for k in range(max_k + 1):
         # the base case first: a counterexample at depth k is found even when the inductive step at k
         # is too hard for the solver (the step of a broken model is typically the harder check)
-        base = bmc.check(k, deadline.remaining())
-        if base.result == "sat":
-            return _counterexample(prop, u, bmc, k, base.model, (refine, deadline), result)
-        if base.result == "unknown":
-            return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+        decided = _base_case(prop, u, bmc, k, deadline, refine, result)
+        if decided is not None:
+            return decided
         step = induction.check(k, deadline.remaining())
         if step.result == "unsat":
             return _with_vacuity(u, k, deadline, result)
@@ -224,12 +222,20 @@ def _bmc_to_depth(prop, u, depth, deadline, refine, result) -> Result:
     """BMC at depths 0 .. ``depth``: the first counterexample, else unknown with the depth cleared."""
     bmc = Bmc(u)
     for k in range(depth + 1):
-        base = bmc.check(k, deadline.remaining())
-        if base.result == "sat":
-            return _counterexample(prop, u, bmc, k, base.model, (refine, deadline), result)
-        if base.result == "unknown":
-            return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+        decided = _base_case(prop, u, bmc, k, deadline, refine, result)
+        if decided is not None:
+            return decided
     return result("unknown", "bmc", depth, f"no counterexample up to depth {depth} (a bounded check, not a proof)")
+
+
+def _base_case(prop, u, bmc, k, deadline, refine, result) -> Result | None:
+    """BMC at depth ``k``: the counterexample, unknown if the solver cannot tell, None if there is none."""
+    base = bmc.check(k, deadline.remaining())
+    if base.result == "sat":
+        return _counterexample(prop, u, bmc, k, base.model, (refine, deadline), result)
+    if base.result == "unknown":
+        return result("unknown", "bmc", k, _unknown(base, "BMC", k))
+    return None
 
 
 def _assumed_lemmas(prop, lemmas, proved, deadline, refine, chain) -> tuple[list[Property], tuple | None]:
