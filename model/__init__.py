@@ -7,7 +7,6 @@ under every backend.
 from atcs.model.ato import ATO
 from atcs.model.ats_status import ATS_STATUS
 from atcs.model.authority import AUTHORITY, STOPPING_POINT
-from atcs.model.bits import FIELD_CODEC
 from atcs.model.closed_loop import CLOSED_LOOP, DECREASE_LOOP
 from atcs.model.curves import (
     ADHESION,
@@ -83,7 +82,6 @@ NODES: dict[str, Node] = {
         TARGETS,
         ATO,
         T2T_REPORT,
-        FIELD_CODEC,
     )
 }
 

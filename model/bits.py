@@ -1,102 +1,15 @@
 """Bit strings as ETCS packets carry them: unsigned fields, most significant bit first (Subset-026-7 §7.3).
 
-A field's bits and its value are step functions over the Ops (:func:`field_bits`, :func:`field_value`), proved
-to be each other's inverse for every value of every width the formats use (``packets.field_round_trip``,
-``packets.bits_round_trip``). :class:`BitReader` and :class:`BitWriter` run them on floats (every value is a
-whole number below 2^53, so each operation is exact) and track the bit offset of every field, so a codec's
-errors can name the field and the offset where it starts. A packet is sent as whole bytes: its bits, then zero
-padding up to the next byte boundary.
+:class:`BitReader` and :class:`BitWriter` track the bit offset of every field, so a
+codec's errors can name the field and the offset where it starts. A packet is sent
+as whole bytes: its bits, then zero padding up to the next byte boundary.
 """
 
 from __future__ import annotations
 
 import string
-from dataclasses import dataclass
-from typing import Generic
 
 from atcs.model.errors import AtcsInputError
-from atcs.model.node import Stateless, stateless_node
-from atcs.model.ops import B, N, Ops
-from atcs.model.ops.floating import FLOAT
-
-FIELD_WIDTHS = (1, 2, 4, 5, 8, 9, 13, 15, 16, 24, 32)
-"""Every field width of the packets atcs reads and writes (platform packets 69 and 44, the T2T report)."""
-
-
-def field_bits(o: Ops, value, width: int) -> tuple:
-    """The ``width`` bits of a whole ``value`` in ``0 .. 2^width - 1``, most significant first: each the
-    remainder of halving what is left."""
-    bits, rest = [], value
-    for _ in range(width):
-        half = o.floor(rest / o.const(2))
-        bits.append(rest - o.const(2) * half)
-        rest = half
-    return tuple(reversed(bits))
-
-
-def field_value(o: Ops, bits) -> N:
-    """The value of ``bits``, most significant first."""
-    value = o.const(0)
-    for bit in bits:
-        value = value * o.const(2) + bit
-    return value
-
-
-@dataclass(frozen=True)
-class FieldValues(Generic[N, B]):
-    values: tuple[N, ...]
-    """One value per width of :data:`FIELD_WIDTHS`."""
-
-
-@dataclass(frozen=True)
-class FieldBits(Generic[N, B]):
-    bits: tuple[N, ...]
-    """The bits of one field per width of :data:`FIELD_WIDTHS`, one after the other."""
-
-
-@dataclass(frozen=True)
-class FieldCodecOutputs(Generic[N, B]):
-    encoded: tuple[N, ...]
-    """:func:`field_bits` of each value, one field after the other."""
-    decoded: tuple[N, ...]
-    """:func:`field_value` of each field of the input bits."""
-    reencoded: tuple[N, ...]
-    """:func:`field_bits` of each decoded value."""
-
-
-def _fields(bits: tuple) -> tuple[tuple, ...]:
-    fields, start = [], 0
-    for width in FIELD_WIDTHS:
-        fields.append(bits[start : start + width])
-        start += width
-    return tuple(fields)
-
-
-def field_codec_step(o: Ops, p: FieldValues, s: Stateless, i: FieldBits):
-    decoded = tuple(field_value(o, bits) for bits in _fields(i.bits))
-    return s, FieldCodecOutputs(
-        encoded=tuple(b for v, w in zip(p.values, FIELD_WIDTHS, strict=True) for b in field_bits(o, v, w)),
-        decoded=decoded,
-        reencoded=tuple(b for v, w in zip(decoded, FIELD_WIDTHS, strict=True) for b in field_bits(o, v, w)),
-    )
-
-
-FIELD_CODEC = stateless_node(
-    name="field_codec",
-    params=FieldValues,
-    inputs=FieldBits,
-    outputs=FieldCodecOutputs,
-    step=field_codec_step,
-    seed="004 §2.2-2.3, Subset-026-7 §7.3",
-    sizes={
-        "values": len(FIELD_WIDTHS),
-        "bits": sum(FIELD_WIDTHS),
-        "encoded": sum(FIELD_WIDTHS),
-        "decoded": len(FIELD_WIDTHS),
-        "reencoded": sum(FIELD_WIDTHS),
-    },
-)
-"""A value of every field width encoded, and a field of every width decoded and encoded again, all symbolic."""
 
 
 class PacketError(AtcsInputError):
@@ -125,7 +38,6 @@ class BitReader:
         self.packet = packet
         self.value = int.from_bytes(data, "big")
         self.size = 8 * len(data)
-        self.bits = tuple(float(b) for b in format(self.value, f"0{self.size}b")) if data else ()
         self.offset = 0
 
     def read(self, field: str, width: int) -> int:
@@ -136,9 +48,9 @@ class BitReader:
                 self.offset,
                 f"truncated: needs {width} bits, {self.size - self.offset} left in {self.size // 8} bytes",
             )
-        start = self.offset
+        shift = self.size - self.offset - width
         self.offset += width
-        return int(field_value(FLOAT, self.bits[start : self.offset]))
+        return (self.value >> shift) & ((1 << width) - 1)
 
     def expect(self, field: str, width: int, allowed: dict[int, str] | range, *, meaning: str = "") -> int:
         """Read a field that must take one of ``allowed`` (codes, or a mapping from code to meaning)."""
@@ -214,6 +126,8 @@ class BitWriter:
         raise KeyError(field)
 
     def to_bytes(self) -> bytes:
-        bits = [bit for _, width, value in self.fields for bit in field_bits(FLOAT, float(value), width)]
-        bits += [0.0] * (-self.offset % 8)
-        return bytes(int(field_value(FLOAT, bits[k : k + 8])) for k in range(0, len(bits), 8))
+        value = 0
+        for _, width, field_value in self.fields:
+            value = (value << width) | field_value
+        padding = -self.offset % 8
+        return (value << padding).to_bytes((self.offset + padding) // 8, "big")

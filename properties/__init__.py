@@ -22,7 +22,6 @@ from atcs.properties import (
     gradient_acceleration,
     most_restrictive,
     mrsp,
-    packets,
     position,
     resources,
     separation,
@@ -52,7 +51,6 @@ def _register(*groups: tuple[Property, ...]) -> dict[str, Property]:
 PROPERTIES: dict[str, Property] = _register(
     supervision.PROPERTIES,
     mrsp.PROPERTIES,
-    packets.PROPERTIES,
     deceleration.PROPERTIES,
     curves.PROPERTIES,
     closed_loop.PROPERTIES,
