@@ -354,17 +354,17 @@ def curves_from_ebd(
     """:func:`curve_locations` from ``ebd_at(speed)``, where the target's EBD reaches a speed (walked directly, or
     looked up in the target's preprocessed table, :mod:`atcs.model.prepared_curves`)."""
     v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
-    ebi_m = ebd_at(v_bec) - d_bec
-    return curves_from_ebd_and_ebi(o, t, n, ebd_at(speed_mps), ebi_m, speed_mps)
+    return curves_from_ebd_and_ebi(o, t, n, lambda: ebd_at(speed_mps), ebd_at(v_bec) - d_bec, speed_mps)
 
 
-def curves_from_ebd_and_ebi(o: Ops, t: TrainData, n: NationalData, ebd_m, ebi_m, speed_mps) -> CurveLocations:
-    """The curves' locations from the EBD's and the EBI's: the SBI, warning, permitted and indication fixed
-    distances at ``speed_mps`` before the EBI (Subset-026 §3.13.9.3)."""
+def curves_from_ebd_and_ebi(o: Ops, t: TrainData, n: NationalData, ebd_m: Callable, ebi_m, speed_mps) -> CurveLocations:
+    """The curves' locations from the EBI's and ``ebd_m()``, the EBD's: the SBI, warning, permitted and indication
+    fixed distances at ``speed_mps`` before the EBI (Subset-026 §3.13.9.3). The EBD is asked for where the
+    symbolic terms have always been built (z3's search follows the terms' order)."""
     sbi = ebi_m - speed_mps * t.t_bs_s
     permitted = sbi - speed_mps * n.t_driver_s
     return CurveLocations(
-        ebd_m=ebd_m,
+        ebd_m=ebd_m(),
         ebi_m=ebi_m,
         sbi_m=sbi,
         warning_m=sbi - speed_mps * n.t_warning_s,

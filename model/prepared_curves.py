@@ -351,7 +351,7 @@ def supervise_prepared(
     for target, envelope in groups:
         v_bec, d_bec = bec_speed_and_distance(o, t, n, target, speed_mps, a_est_mps2)
         ebi_m.append(envelope_location_m(o, envelope, v_bec) - d_bec)
-    curve = curves_from_ebd_and_ebi(o, t, n, ebd_m, o.min(*ebi_m), speed_mps)
+    curve = curves_from_ebd_and_ebi(o, t, n, lambda: ebd_m, o.min(*ebi_m), speed_mps)
     ceiling = ceilings(o, n, value_at_bisected(o, prepared.horizon.mrsp, max_safe_front_m))
     return exceedances(o, curve, ceiling, max_safe_front_m, speed_mps), curve, ceiling
 

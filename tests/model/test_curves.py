@@ -188,9 +188,9 @@ def test_seed000_curves_at_80_kmh_are_ordered_and_spaced_by_the_times():
 CURVE_PROPERTIES = select("curves.*")
 
 MUTANTS = {
-    # the indication curve at the permitted curve (atcs mutate's arith_drop in curves_from_ebd)
-    "spacing": [(curves.curves_from_ebd, "permitted - speed_mps * n.t_indication_s", "permitted")],
-    "order": [(curves.curves_from_ebd, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
+    # the indication curve at the permitted curve (atcs mutate's arith_drop in curves_from_ebd_and_ebi)
+    "spacing": [(curves.curves_from_ebd_and_ebi, "permitted - speed_mps * n.t_indication_s", "permitted")],
+    "order": [(curves.curves_from_ebd_and_ebi, "sbi - speed_mps * n.t_warning_s", "sbi + speed_mps * n.t_warning_s")],
     "ebi_protects_ebd": [
         # EBI without the brake build-up time
         (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),

@@ -59,7 +59,7 @@ def test_a_configured_property_falsified_by_a_mutant_replays():
     config = load_configuration(SHIPPED / "example_line.toml")
     prop = next(p for p in configuration_properties(config) if p.name == "curves.spacing_gamma_passenger_p_example_3")
     assert prove(prop, timeout_s=120).status == "proved"
-    with patched(curves.curves_from_ebd, "permitted - speed_mps * n.t_indication_s", "permitted"):
+    with patched(curves.curves_from_ebd_and_ebi, "permitted - speed_mps * n.t_indication_s", "permitted"):
         result = prove(prop, timeout_s=120)
         assert result.status == "falsified", result.message
         assert reproduce(prop, result.trace).first_violation == result.k

@@ -157,7 +157,7 @@ class TestSweep:
 
     def test_a_mutant_falsifies_every_cell_down_to_the_resolution_each_replayed(self, tmp_path):
         path = str(_write(tmp_path))
-        with patched(curves.curves_from_ebd, "permitted - speed_mps * n.t_indication_s", "permitted"):
+        with patched(curves.curves_from_ebd_and_ebi, "permitted - speed_mps * n.t_indication_s", "permitted"):
             with local_executor(1) as tasks:
                 maps = sweep(path, [SPACING], timeout_s=120, executor=tasks)
             cells = maps[SPACING].cells
@@ -190,7 +190,7 @@ class TestCommand:
     def test_a_falsified_cell_makes_the_run_falsified_with_its_counterexample(self, tmp_path, capsys):
         path = _write(tmp_path, "t_be_s = { min = 2, max = 3, resolution = 1 }")
         argv = ["prove", "--config", str(path), "--only", SPACING, "--cex-dir", str(tmp_path / "cex")]
-        with patched(curves.curves_from_ebd, "permitted - speed_mps * n.t_indication_s", "permitted"):
+        with patched(curves.curves_from_ebd_and_ebi, "permitted - speed_mps * n.t_indication_s", "permitted"):
             assert main([*argv, "--json", str(tmp_path / "r.json")]) == EXIT_FALSIFIED
         (entry,) = json.loads((tmp_path / "r.json").read_text())["envelopes"]
         (cell,) = entry["cells"]
