@@ -9,6 +9,7 @@ assumptions a property claims nothing). Works with scalars or with numpy arrays
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -17,6 +18,7 @@ import numpy as np
 from atcs.model.errors import AtcsViolation
 from atcs.model.node import Node
 from atcs.model.ops.floating import FLOAT
+from atcs.model.ops.traced import Untraceable, shape, trace, trace_first_false
 from atcs.properties.property import Property
 
 
@@ -40,9 +42,86 @@ def _all(value) -> bool:
     return value if isinstance(value, bool) else bool(np.all(value))
 
 
-def check_step(node: Node, params, state, inputs, properties: tuple[Property, ...], step: int, ops=FLOAT):
+def _checked(prop: Property):
+    """``prop`` at one step, its assumptions taken at that step only, as one predicate."""
+
+    def predicate(o, p, s, i, out, nxt):
+        return o.implies(prop.assumed(o, p, s, i), prop.holds(o, p, s, i, out, nxt))
+
+    predicate.__qualname__ = prop.name
+    return predicate
+
+
+@dataclass(frozen=True)
+class _Traced:
+    """A node's step and the check of its properties, each traced once for one shape of its arguments."""
+
+    step: Any
+    first_false: Any
+    keeps: tuple = ()
+    """The node, properties and backend the trace is of: kept alive while the trace is, so that their ids,
+    which key it, are not reused."""
+
+
+class Traces:
+    """The programs traced from checked nodes and their properties (:mod:`atcs.model.ops.traced`), one per node,
+    backend and shape of the arguments, traced on first sight; the most recently used are kept. A simulation
+    keeps its own, so that each traces the functions as they are when it starts."""
+
+    KEPT = 512  # shapes (the simulator's route windows come in a few dozen lengths)
+
+    def __init__(self):
+        self._programs: OrderedDict[Any, _Traced | None] = OrderedDict()
+
+    def __len__(self) -> int:
+        return len(self._programs)
+
+    def get(self, node: Node, params, state, inputs, properties: tuple[Property, ...], ops) -> _Traced | None:
+        """The traced step and check for these arguments' shape, or None where they cannot be traced (numpy
+        arrays, a function that branches on a value): then the functions are run as they are."""
+        try:
+            key = (id(node), id(ops), tuple(map(id, properties)), shape((params, state, inputs)))
+        except Untraceable:
+            return None
+        if key in self._programs:
+            self._programs.move_to_end(key)
+            return self._programs[key]
+        try:
+            step = trace(node.step, ops, params, state, inputs)
+            nxt, out = step(params, state, inputs)
+            checks = trace_first_false([_checked(p) for p in properties], ops, params, state, inputs, out, nxt)
+            traced = _Traced(step, checks, (node, ops, properties))
+        except Untraceable:
+            traced = None
+        self._programs[key] = traced
+        if len(self._programs) > self.KEPT:
+            self._programs.popitem(last=False)
+        return traced
+
+
+def check_step(
+    node: Node,
+    params,
+    state,
+    inputs,
+    properties: tuple[Property, ...],
+    step: int,
+    ops=FLOAT,
+    traces: Traces | None = None,
+):
     """One step of ``node`` with ``properties`` checked on it (their assumptions taken at this step only):
-    returns (next state, outputs), or raises :class:`PropertyViolation`."""
+    returns (next state, outputs), or raises :class:`PropertyViolation`.
+
+    With ``traces``, the step and the checks run as the straight-line programs traced from the very functions
+    (the same operations in the same order, without the backend's dispatch), wherever the arguments can be
+    traced; without, the functions themselves run."""
+    programs = traces.get(node, params, state, inputs, properties, ops) if traces is not None else None
+    if programs is not None:
+        nxt, out = programs.step(params, state, inputs)
+        failed = programs.first_false(params, state, inputs, out, nxt)
+        if failed >= 0:
+            raise PropertyViolation(properties[failed], step, state, inputs, out)
+        return nxt, out
     nxt, out = node.step(ops, params, state, inputs)
     for prop in properties:
         if not _all(

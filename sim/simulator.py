@@ -60,7 +60,7 @@ from atcs.model.supervision import SupervisionParams, SupervisionState, supervis
 from atcs.model.t2t_message import REPORT_BYTES, T2TReport, decode_report, encode_report, min_speed_mps
 from atcs.model.train_data import preset_data
 from atcs.sim.ato_driver import ato_commands
-from atcs.sim.monitor import Monitor, check_step, registered_properties
+from atcs.sim.monitor import Monitor, Traces, check_step, registered_properties
 from atcs.sim.motion import move
 from atcs.sim.scenario import Scenario, TrainSpec
 from atcs.sim.station_stop import station_doors
@@ -93,8 +93,14 @@ def _same_horizon(horizon: Horizon, train: TrainRun, eoa_m: float) -> bool:
 class Simulation:
     """One scenario, stepped cycle by cycle (:meth:`step`) or to its end (:meth:`run`)."""
 
-    def __init__(self, scenario: Scenario, *, on_cycle: Callable[[Simulation], None] | None = None):
+    def __init__(
+        self, scenario: Scenario, *, on_cycle: Callable[[Simulation], None] | None = None, traced: bool = True
+    ):
         self.scenario, self.on_cycle = scenario, on_cycle
+        self.traces = Traces() if traced else None
+        """The checked nodes and their properties run as the programs traced from them (the default), or with
+        ``traced=False`` as the functions themselves (:func:`~atcs.sim.monitor.check_step`): the same run, to the
+        bit."""
         self.dt = float(scenario.cycle_s)
         self.step_count = 0
         line = scenario.line_m
@@ -424,7 +430,9 @@ class Simulation:
             deliver_up=(delivered,) * size,
             deliver_down=(delivered,) * size,
         )
-        nxt, out = check_step(RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count)
+        nxt, out = check_step(
+            RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count, traces=self.traces
+        )
         for b, (r, trains) in enumerate(group):
             code = int(nxt.owner[0][b])
             owner[r] = float(trains[code - 1] + 1) if code else 0.0
@@ -572,6 +580,7 @@ class Simulation:
             AUTHORITY_PROPERTIES,
             self.step_count,
             ops=EXACT,
+            traces=self.traces,
         )
         for i, command in enumerate(auth.switch_command, start=lo):
             if command and i % count not in self.switch_thrown_at:
@@ -604,6 +613,7 @@ class Simulation:
             ATS_STATUS_PROPERTIES,
             self.step_count,
             ops=EXACT,
+            traces=self.traces,
         )
         return out
 

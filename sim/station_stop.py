@@ -57,7 +57,9 @@ def station_doors(
         traction_request=traction_request,
         supervision_traction_cut=supervision_cut,
     )
-    train.dcu, out = check_step(DOOR_LOOP, train.door_params, train.dcu, inputs, DOOR_PROPERTIES, sim.step_count)
+    train.dcu, out = check_step(
+        DOOR_LOOP, train.door_params, train.dcu, inputs, DOOR_PROPERTIES, sim.step_count, traces=sim.traces
+    )
     if station is not None:
         if train.doors_opened_s is None and (train.dcu.door_open_left or train.dcu.door_open_right):
             train.doors_opened_s = t

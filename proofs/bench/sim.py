@@ -6,7 +6,9 @@ origin, all departing at once. Each fleet runs a warm-up (the
 power-up EB and the first grants), then a timed stretch of cycles; every cycle runs every train's nodes
 and checks every property, as a scenario run does. The real-time factor is simulated time over wall time
 (above 1: faster than real time); the per-train cost, relative to the smallest fleet's, shows how the cost
-grows with the fleet.
+grows with the fleet. Each fleet runs twice, its checked nodes and their properties run as the programs traced
+from them (:mod:`atcs.model.ops.traced`, what the simulator does) and as the functions themselves, and the two
+runs must end in the same state, to the bit.
 """
 
 from __future__ import annotations
@@ -45,6 +47,19 @@ def fleet_scenario(trains: int):
     return dataclasses.replace(base, name=f"{base.name}_{trains}_trains", trains=specs)
 
 
+MODES = ("traced", "direct")
+"""How the checked nodes and their properties run (:func:`~atcs.sim.monitor.check_step`): as the programs traced
+from them, or as the functions themselves; both on exact numbers, every property checked every cycle."""
+
+
+def train_states(sim: Simulation) -> list[tuple]:
+    """Every train's state after a run: what two runs of one fleet must agree on, to the bit."""
+    return [
+        (t.front_m, t.speed_mps, t.position.state, t.authority, t.ats_status, t.supervision, t.dcu, t.stats)
+        for t in sim.trains
+    ]
+
+
 def bench_sim(
     console: Console,
     fleets: tuple[int, ...] = FLEETS,
@@ -52,42 +67,60 @@ def bench_sim(
     cycles: int = TIMED_CYCLES,
     progress: Callable[[int, int], None] = lambda done, total: None,
 ) -> dict[str, float]:
-    """Wall time per cycle and per train-cycle, and the real-time factor, for each fleet size."""
+    """Wall and CPU time per cycle, per train-cycle, and the real-time factor, for each fleet size, traced and
+    direct side by side; raises AssertionError if the two runs of a fleet end in different states."""
     results: dict[str, float] = {}
     rows = []
-    total, done = (warm_up + cycles) * sum(fleets), 0  # in train-cycles
+    total, done = (warm_up + cycles) * sum(fleets) * len(MODES), 0  # in train-cycles
     for trains in fleets:
-        sim = Simulation(fleet_scenario(trains))
-        for _ in range(warm_up):
-            sim.step()
-            done += trains
-            progress(done, total)
-        wall_s = 0.0
-        for _ in range(cycles):
-            t0 = time.perf_counter()
-            sim.step()
-            wall_s += time.perf_counter() - t0
-            done += trains
-            progress(done, total)
-        per_cycle_s = wall_s / cycles
-        rows.append((trains, per_cycle_s, sim.dt / per_cycle_s))
-        console.print(f"bench sim: {trains} trains, {per_cycle_s * 1e3:.1f} ms a cycle")
-        results[f"{trains}_trains_cycle_s"] = per_cycle_s
-        results[f"{trains}_trains_real_time_factor"] = sim.dt / per_cycle_s
+        ends = {}
+        for mode in MODES:
+            sim = Simulation(fleet_scenario(trains), traced=mode == "traced")
+            for _ in range(warm_up):
+                sim.step()
+                done += trains
+                progress(done, total)
+            wall_s = cpu_s = 0.0
+            for _ in range(cycles):
+                t0, c0 = time.perf_counter(), time.process_time()
+                sim.step()
+                wall_s += time.perf_counter() - t0
+                cpu_s += time.process_time() - c0
+                done += trains
+                progress(done, total)
+            ends[mode] = train_states(sim)
+            per_cycle_s = wall_s / cycles
+            rows.append((trains, mode, per_cycle_s, cpu_s / cycles, sim.dt / per_cycle_s))
+            console.print(f"bench sim: {trains} trains {mode}, {per_cycle_s * 1e3:.1f} ms a cycle")
+            results[f"{trains}_trains_{mode}_cycle_s"] = per_cycle_s
+            results[f"{trains}_trains_{mode}_cpu_s"] = cpu_s / cycles
+            results[f"{trains}_trains_{mode}_real_time_factor"] = sim.dt / per_cycle_s
+        assert ends["traced"] == ends["direct"], f"{trains} trains: the traced and direct runs end apart"
     table = Table(
         title=f"bench sim: seed 002 double track, trains every {SPACING_M} m, {cycles} cycles timed after "
-        f"{warm_up} of warm-up, every property checked every cycle"
+        f"{warm_up} of warm-up, every property checked every cycle on exact numbers; the traced and direct runs "
+        "end in the same state"
     )
-    for column in ("trains", "ms / cycle", "ms / train-cycle", "/ smallest fleet's per train", "real-time factor"):
+    for column in (
+        "trains",
+        "nodes and checks",
+        "ms / cycle",
+        "CPU ms / cycle",
+        "ms / train-cycle",
+        "/ smallest fleet's per train",
+        "real-time factor",
+    ):
         table.add_column(column, justify="right")
-    base = rows[0][1] / rows[0][0]
-    for trains, per_cycle_s, factor in rows:
+    base = {mode: next(r[2] / r[0] for r in rows if r[1] == mode) for mode in MODES}
+    for trains, mode, per_cycle_s, cpu_cycle_s, factor in rows:
         per_train = per_cycle_s / trains
         table.add_row(
             str(trains),
+            mode,
             f"{per_cycle_s * 1e3:.1f}",
+            f"{cpu_cycle_s * 1e3:.1f}",
             f"{per_train * 1e3:.2f}",
-            f"{per_train / base:.2f}x",
+            f"{per_train / base[mode]:.2f}x",
             f"{factor:.2f}",
         )
     console.print(table)

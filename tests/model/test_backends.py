@@ -29,7 +29,10 @@ from atcs.model.node import as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, unwrap
+from atcs.model.ops.traced import trace, trace_first_false
 from atcs.proofs.engine.system import variables
+from atcs.properties import PROPERTIES
+from atcs.sim.monitor import _checked
 
 REL_TOL = 1e-9
 ROLES = ("params", "state", "inputs")
@@ -118,6 +121,14 @@ def assert_float_close(float_values, exact_values, what, scale=1.0):
             assert abs(float(f) - float(e)) <= tolerance, f"{what}.{name}: {f} vs {e}"
 
 
+def outcome(compute, *args):
+    """What ``compute(*args)`` returns, or the type of the exception it raises (a division by zero on drawn data)."""
+    try:
+        return compute(*args)
+    except ArithmeticError as exc:
+        return type(exc)
+
+
 @pytest.mark.parametrize("node", NODES.values(), ids=list(NODES))
 class TestEveryNodeUnderEveryBackend:
     def test_runs_under_all_three_backends(self, node):
@@ -151,6 +162,27 @@ class TestEveryNodeUnderEveryBackend:
             scale = max(scale, float(FAR_M))
         assert_float_close(float_nxt, exact_nxt, "state", scale)
         assert_float_close(float_out, exact_out, "outputs", scale)
+
+    @settings(max_examples=30)
+    @given(data=st.data())
+    def test_traced_program_equals_the_step(self, node, data):
+        """The straight-line program traced from the step (and from the checks of its properties) computes what
+        the step (and the checks) compute, to the bit, on exact numbers and on floats."""
+        values = data.draw(example(node))
+        properties = [_checked(p) for p in PROPERTIES.values() if p.node is node]
+        for ops, chosen in ((EXACT, {r: as_exact(v) for r, v in values.items()}), (FLOAT, values)):
+            p, s, i = (getattr(node, role)(**chosen[role]) for role in ROLES)
+            direct = outcome(node.step, ops, p, s, i)
+            assert outcome(trace(node.step, ops, p, s, i), p, s, i) == direct, ops.name
+            if isinstance(direct, tuple):
+                nxt, out = direct
+                checks = [outcome(c, ops, p, s, i, out, nxt) for c in properties]
+                first = next((j for j, c in enumerate(checks) if c is not True), -1)
+                program = trace_first_false(properties, ops, p, s, i, out, nxt)
+                if first < 0 or checks[first] is False:
+                    assert program(p, s, i, out, nxt) == first, ops.name
+                else:  # the first check that is not true raised: so does the program
+                    assert outcome(program, p, s, i, out, nxt) == checks[first], ops.name
 
     @settings(max_examples=40)  # each example steps up to 16 trains twice: 640 runs per node
     @given(data=st.data())

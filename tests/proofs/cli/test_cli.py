@@ -263,15 +263,17 @@ def test_cycle_benchmark_checks_agreement_and_prints_ratios():
 def test_sim_benchmark_prints_the_cost_per_fleet():
     from rich.console import Console
 
-    from atcs.proofs.bench.sim import bench_sim, fleet_scenario
+    from atcs.proofs.bench.sim import MODES, bench_sim, fleet_scenario
 
-    console = Console(record=True, width=160)
+    console = Console(record=True, width=200)
     reported = []
     results = bench_sim(console, fleets=(2, 4), warm_up=5, cycles=10, progress=lambda *at: reported.append(at))
-    assert reported[-1] == (15 * 6, 15 * 6) and len(reported) == 30  # a report a cycle, in train-cycles
-    assert set(results) == {f"{n}_trains_{what}" for n in (2, 4) for what in ("cycle_s", "real_time_factor")}
+    assert reported[-1] == (15 * 6 * 2, 15 * 6 * 2) and len(reported) == 60  # a report a cycle, in train-cycles
+    kinds = ("cycle_s", "cpu_s", "real_time_factor")
+    assert set(results) == {f"{n}_trains_{mode}_{kind}" for n in (2, 4) for mode in MODES for kind in kinds}
     assert all(v > 0 for v in results.values())
-    assert "real-time factor" in console.export_text()
+    text = console.export_text()
+    assert "real-time factor" in text and "traced" in text and "direct" in text
     fleet = fleet_scenario(100)
     assert [t.front_m for t in fleet.trains[:2]] == [40000, 39600] and fleet.trains[-1].front_m == 400
     with pytest.raises(ValueError, match="trains must be from 1 to 285, got 500"):

@@ -1,0 +1,360 @@
+"""Straight-line programs traced from a step function or a predicate, for a concrete backend.
+
+A function written against :class:`~atcs.model.ops.Ops` is run once on :class:`Term` placeholders for its
+arguments' numbers and booleans; every operation it performs is recorded as one assignment, and the record is
+compiled into a Python function that performs the same operations, in the same order, with the concrete
+backend's own operations for ``const``, ``min``, ``max``, ``select``, ``find``, ``first_above``, ``floor`` and
+``sort_by_key``, and Python's operators for the rest (what :class:`~atcs.model.ops.exact.ExactOps` and
+:class:`~atcs.model.ops.floating.FloatOps` do on scalars). What it saves is the dispatch, not arithmetic: the
+program computes what the function computes, to the bit.
+
+A trace holds for the shape it was made on: the lengths of the tuples and the types of the leaves of every
+argument (:func:`shape`). A function that branches in Python on a traced value (``if``, ``and``, ``==``, an index)
+cannot be traced, as it cannot be proved: :class:`Term` refuses ``bool()``, ``==`` and ``__index__``, and
+:func:`trace` raises :class:`Untraceable`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+from collections.abc import Callable
+from fractions import Fraction
+from typing import Any
+
+from atcs.model.errors import AtcsError
+
+LEAVES = (Fraction, float, int, bool)
+"""The types traced as values; any other leaf (None, a string, an array) makes an argument untraceable."""
+
+
+class Untraceable(AtcsError, TypeError):
+    """The function or an argument cannot be traced (see the module docstring)."""
+
+
+class Term:
+    """A value in a trace: the name of the variable that holds it in the program."""
+
+    __slots__ = ("_program", "kind", "name")
+
+    def __init__(self, program: _Program, name: str, kind: type | None = None):
+        self._program, self.name, self.kind = program, name, kind
+        """``kind``: the type of the value where the trace knows it (an argument's leaf, arithmetic on Fractions)."""
+
+    def bind(self) -> str:
+        """The name the program reads this value by."""
+        return self.name
+
+    def __bool__(self):
+        raise Untraceable("a traced value has no Python truth value (the function branches on it)")
+
+    def __eq__(self, other):
+        raise Untraceable("a traced value cannot be compared with == (the function should use o.eq)")
+
+    __ne__ = __eq__
+    __hash__ = None  # type: ignore[assignment]
+
+    def __index__(self):
+        raise Untraceable("a traced value cannot be an index (the function should use o.select)")
+
+    def _binary(self, symbol: str, other, reflected: bool = False) -> Term:
+        left, right = (other, self) if reflected else (self, other)
+        program = self._program
+        kinds = {_kind(left), _kind(right)}
+        if symbol in _ORDER:
+            if kinds == {Fraction}:  # Fraction's own comparison, without its dispatch (denominators are positive)
+                a, b = program.ref(left), program.ref(right)
+                return program.assign(f"{a}._numerator * {b}._denominator {symbol} {b}._numerator * {a}._denominator")
+            return program.assign(f"{program.ref(left)} {symbol} {program.ref(right)}", bool)
+        kind = Fraction if kinds <= {Fraction, int} and Fraction in kinds else None
+        return program.assign(f"{program.ref(left)} {symbol} {program.ref(right)}", kind)
+
+    def __add__(self, other):
+        return self._binary("+", other)
+
+    def __radd__(self, other):
+        return self._binary("+", other, reflected=True)
+
+    def __sub__(self, other):
+        return self._binary("-", other)
+
+    def __rsub__(self, other):
+        return self._binary("-", other, reflected=True)
+
+    def __mul__(self, other):
+        return self._binary("*", other)
+
+    def __rmul__(self, other):
+        return self._binary("*", other, reflected=True)
+
+    def __truediv__(self, other):
+        return self._binary("/", other)
+
+    def __rtruediv__(self, other):
+        return self._binary("/", other, reflected=True)
+
+    def __neg__(self):
+        return self._program.assign(f"-{self._program.ref(self)}", self.kind)
+
+    def __lt__(self, other):
+        return self._binary("<", other)
+
+    def __le__(self, other):
+        return self._binary("<=", other)
+
+    def __gt__(self, other):
+        return self._binary(">", other)
+
+    def __ge__(self, other):
+        return self._binary(">=", other)
+
+    def __repr__(self):
+        return f"Term({self.name})"
+
+
+_ORDER = frozenset({"<", "<=", ">", ">="})
+
+
+def _kind(value) -> type | None:
+    return value.kind if isinstance(value, Term) else type(value)
+
+
+def _truth(value):
+    """``value`` where a boolean is due: refused if the trace knows it is not one (the function as it is then
+    runs, and its backend names the error)."""
+    kind = _kind(value)
+    if kind not in (bool, None):
+        raise Untraceable(f"a {kind.__name__} where a boolean is due")
+    return value
+
+
+def _common_kind(values) -> type | None:
+    kinds = {_kind(v) for v in values}
+    return kinds.pop() if len(kinds) == 1 else None
+
+
+class _Leaf(Term):
+    """An argument's number or boolean: read into a variable where the function first uses it (so the program
+    reads only what the function does)."""
+
+    __slots__ = ("_source",)
+
+    def __init__(self, program: _Program, source: str, kind: type):
+        super().__init__(program, "", kind)
+        self._source = source
+
+    def bind(self) -> str:
+        if not self.name:
+            self.name = self._program.assign(self._source).name
+        return self.name
+
+
+class _Program:
+    """The assignments recorded so far and the names they refer to."""
+
+    def __init__(self, ops):
+        self.ops = ops
+        self.lines: list[str] = []
+        self.namespace: dict[str, Any] = {"_ops": ops}
+        self._counter = itertools.count()
+
+    def fresh(self, prefix: str = "t") -> str:
+        return f"{prefix}{next(self._counter)}"
+
+    def assign(self, expression: str, kind: type | None = None) -> Term:
+        name = self.fresh()
+        self.lines.append(f"{name} = {expression}")
+        return Term(self, name, kind)
+
+    def ref(self, value) -> str:
+        """``value`` in the program's source: a term's name, a tuple's entries, a constant bound to a name."""
+        if isinstance(value, Term):
+            if value._program is not self:
+                raise Untraceable("a term of another trace")
+            return value.bind()
+        if type(value) is tuple:
+            return "(" + "".join(f"{self.ref(v)}, " for v in value) + ")"
+        if type(value) in (bool, type(None)):
+            return repr(value)
+        name = self.fresh("c")
+        self.namespace[name] = value
+        return name
+
+
+class TraceOps:
+    """The Ops that records (see the module docstring); one per trace."""
+
+    def __init__(self, program: _Program):
+        self._p = program
+        self.name = program.ops.name  # a function that asks which backend it runs on is traced for that backend
+
+    def _call(self, method: str, *args, kind: type | None = None) -> Term:
+        return self._p.assign(f"_ops.{method}({', '.join(self._p.ref(a) for a in args)})", kind)
+
+    def const(self, value):
+        number = self._p.ops.const(value)
+        return Term(self._p, self._p.ref(number), type(number))
+
+    def const_bool(self, value):
+        return Term(self._p, repr(bool(value)), bool)
+
+    def ite(self, cond, then, else_):
+        r = self._p.ref
+        return self._p.assign(f"{r(then)} if {r(_truth(cond))} else {r(else_)}", _common_kind((then, else_)))
+
+    def min(self, first, *rest):
+        return self._call("min", first, *rest, kind=_common_kind((first, *rest)))
+
+    def max(self, first, *rest):
+        return self._call("max", first, *rest, kind=_common_kind((first, *rest)))
+
+    def and_(self, *args):
+        return self._p.assign(" and ".join(self._p.ref(_truth(a)) for a in args) if args else "True", bool)
+
+    def or_(self, *args):
+        return self._p.assign(" or ".join(self._p.ref(_truth(a)) for a in args) if args else "False", bool)
+
+    def not_(self, arg):
+        return self._p.assign(f"not {self._p.ref(_truth(arg))}", bool)
+
+    def implies(self, antecedent, consequent):
+        r = self._p.ref
+        return self._p.assign(f"not {r(_truth(antecedent))} or {r(_truth(consequent))}", bool)
+
+    def eq(self, left, right):
+        a, b = self._p.ref(left), self._p.ref(right)
+        if _kind(left) is Fraction and _kind(right) is Fraction:  # Fractions are kept in lowest terms
+            return self._p.assign(f"{a}._numerator == {b}._numerator and {a}._denominator == {b}._denominator", bool)
+        return self._p.assign(f"{a} == {b}", bool)
+
+    def select(self, values, index):
+        return self._call("select", tuple(values), index, kind=_common_kind(values))
+
+    def find(self, keys, key):
+        pair = self._call("find", tuple(keys), key)
+        return self._p.assign(f"{pair.name}[0]"), self._p.assign(f"{pair.name}[1]")
+
+    def first_above(self, keys, key):
+        return self._call("first_above", tuple(keys), key)
+
+    def floor(self, value):
+        return self._call("floor", value)
+
+    def sort_by_key(self, keys, *columns):
+        result = self._call("sort_by_key", tuple(keys), *(tuple(c) for c in columns))
+        return tuple(
+            tuple(self._p.assign(f"{result.name}[{c}][{k}]") for k in range(len(keys))) for c in range(len(columns) + 1)
+        )
+
+
+_LEAF_TYPES = frozenset(LEAVES)
+_FIELD_NAMES: dict[type, tuple[str, ...]] = {}
+
+
+def shape(value) -> Any:
+    """What a trace of a function of ``value`` depends on: its dataclass and tuple structure and its leaves' types
+    (raises :class:`Untraceable` on any other leaf)."""
+    kind = type(value)
+    if kind in _LEAF_TYPES:
+        return kind
+    if kind is tuple:
+        kinds = tuple(map(type, value))
+        return kinds if _LEAF_TYPES.issuperset(kinds) else tuple(map(shape, value))
+    names = _FIELD_NAMES.get(kind)
+    if names is None:
+        if not dataclasses.is_dataclass(value):
+            raise Untraceable(f"a {kind.__name__} leaf cannot be traced")
+        names = _FIELD_NAMES[kind] = tuple(f.name for f in dataclasses.fields(value))
+    return (kind, *[shape(getattr(value, name)) for name in names])
+
+
+def _placeholder(program: _Program, value, source: str):
+    """``value`` with every leaf replaced by a term read from ``source``."""
+    kind = type(value)
+    if kind in LEAVES:
+        return _Leaf(program, source, kind)
+    if kind is tuple:
+        return tuple(_placeholder(program, v, f"{source}[{j}]") for j, v in enumerate(value))
+    fields = {
+        f.name: _placeholder(program, getattr(value, f.name), f"{source}.{f.name}") for f in dataclasses.fields(value)
+    }
+    try:
+        return dataclasses.replace(value, **fields)
+    except (TypeError, ValueError) as exc:  # a field the constructor does not take, a check of the values
+        raise Untraceable(f"{kind.__name__} cannot hold traced values: {exc}") from None
+
+
+def _rebuild(program: _Program, value) -> str:
+    """Source that builds ``value`` (terms, tuples, dataclasses, constants) from the program's variables."""
+    if type(value) is tuple:
+        return "(" + "".join(f"{_rebuild(program, v)}, " for v in value) + ")"
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        if not all(f.init for f in dataclasses.fields(value)):
+            raise Untraceable(f"{type(value).__name__} has a field its constructor does not take")
+        kind = program.fresh("k")
+        program.namespace[kind] = type(value)
+        fields = ", ".join(f"{f.name}={_rebuild(program, getattr(value, f.name))}" for f in dataclasses.fields(value))
+        return f"{kind}({fields})"
+    return program.ref(value)
+
+
+def _compile(program: _Program, arguments: list[str], lines: list[str], what: str) -> Callable[..., Any]:
+    source = f"def program({', '.join(arguments)}):\n" + "".join(f"    {line}\n" for line in lines)
+    exec(compile(source, f"<trace of {what}>", "exec"), program.namespace)
+    compiled = program.namespace["program"]
+    compiled.source = source
+    return compiled
+
+
+def _name(function) -> str:
+    return getattr(function, "__qualname__", repr(function))
+
+
+def _traced(program: _Program, function, placeholders):
+    try:
+        return function(TraceOps(program), *placeholders)
+    except Untraceable:
+        raise
+    except TypeError as exc:  # e.g. range() of a traced number: a Python-level use of a value
+        raise Untraceable(f"{_name(function)}: {exc}") from None
+
+
+def trace(function: Callable[..., Any], ops, *examples) -> Callable[..., Any]:
+    """``function(ops, *args)`` as a compiled program for arguments of the shape of ``examples`` (which are only
+    read for their shape): returns ``program(*args)``, which computes what ``function(ops, *args)`` does.
+
+    The result may be numbers, booleans, tuples and dataclasses of them. Raises :class:`Untraceable` if the
+    function branches on a traced value or an example has a leaf that is not a number or a boolean."""
+    for example in examples:
+        shape(example)
+    program = _Program(ops)
+    arguments = [f"a{j}" for j in range(len(examples))]
+    placeholders = [_placeholder(program, example, name) for example, name in zip(examples, arguments, strict=True)]
+    result = _rebuild(program, _traced(program, function, placeholders))  # may read arguments: before the lines
+    return _compile(program, arguments, [*program.lines, f"return {result}"], _name(function))
+
+
+def trace_first_false(predicates, ops, *examples) -> Callable[..., int]:
+    """One program for the predicates ``predicate(ops, *args) -> bool`` in turn, for arguments of the shape of
+    ``examples``: returns the index of the first that is false, or -1 if all hold. Each predicate is evaluated
+    only if those before it hold (as one checks them in turn); one that cannot be traced is called as it is."""
+    for example in examples:
+        shape(example)
+    program = _Program(ops)
+    arguments = [f"a{j}" for j in range(len(examples))]
+    placeholders = [_placeholder(program, example, name) for example, name in zip(examples, arguments, strict=True)]
+    for index, predicate in enumerate(predicates):
+        trial = _Program(ops)  # traced apart first, so that a predicate that cannot be leaves nothing behind
+        try:
+            _traced(trial, predicate, [_placeholder(trial, e, a) for e, a in zip(examples, arguments, strict=True)])
+        except Untraceable:
+            called = program.fresh("f")
+            program.namespace[called] = predicate
+            program.lines.append(f"if not {called}(_ops, {', '.join(arguments)}): return {index}")
+            continue
+        held = _traced(program, predicate, placeholders)
+        program.lines.append(f"if not {program.ref(held)}: return {index}")
+    return _compile(program, arguments, [*program.lines, "return -1"], "predicates")
+
+
+__all__ = ["LEAVES", "Term", "TraceOps", "Untraceable", "shape", "trace", "trace_first_false"]
