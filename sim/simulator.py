@@ -38,8 +38,6 @@ import dataclasses
 from collections.abc import Callable
 from fractions import Fraction
 
-import numpy as np
-
 from atcs.model.ats_status import ATS_STATUS, AtsStatusInputs, AtsStatusParams, AtsStatusState
 from atcs.model.authority import AUTHORITY, AuthorityInputs, AuthorityParams, AuthorityState
 from atcs.model.doors import DoorParams
@@ -397,54 +395,43 @@ class Simulation:
         busy: dict[int, set[int]] = {}
         for j in sends | self.in_flight:
             busy.setdefault(j % count, set()).add(j // count)
-        by_size: dict[int, list[tuple[int, list[int]]]] = {}
         for r in sorted(busy):
             trains = busy[r]
             if owner[r]:
                 trains.add(int(owner[r]) - 1)
-            trains = sorted(trains, key=lambda k: (self._behind_m(k, r), k))
-            by_size.setdefault(len(trains), []).append((r, trains))
-        for group in by_size.values():  # the resources with as many slots busy: one numpy batch, one check
-            self._manage_batch(group, sends, deliver)
+            self._manage_resource(r, sorted(trains, key=lambda k: (self._behind_m(k, r), k)), sends, deliver)
 
-    def _manage_batch(self, group: list[tuple[int, list[int]]], sends: set[int], deliver) -> None:
-        """:meth:`_manage` for resources with the same number of busy slots, ``(resource, its trains in slot
-        order)`` each, as one batch (the node and its properties run on numpy arrays, element by element)."""
+    def _manage_resource(self, r: int, trains: list[int], sends: set[int], deliver) -> None:
+        """:meth:`_manage` for resource ``r`` and its busy ``trains`` in slot order (the node's traced program and
+        its properties', on floats)."""
         owner, holding, up, down = self.resource_state
-        count, size = len(owner), len(group[0][1])
-        slots = [[k * count + r for k in trains] for r, trains in group]
-        codes = [{0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}} for _, trains in group]
-
-        def column(values):
-            return np.array(values, dtype=float)
-
+        count, size = len(owner), len(trains)
+        slots = [k * count + r for k in trains]
+        code = {0.0: 0.0, **{float(k + 1): float(q + 1) for q, k in enumerate(trains)}}
         part = ResourceState(
-            owner=(column([code[owner[r]] for code, (r, _) in zip(codes, group, strict=True)]),),
-            holding=tuple(column([holding[s[q]] for s in slots]) for q in range(size)),
-            up=tuple(column([up[s[q]] for s in slots]) for q in range(size)),
-            down=tuple(column([down[s[q]] for s in slots]) for q in range(size)),
+            owner=(code[owner[r]],),
+            holding=tuple(holding[j] for j in slots),
+            up=tuple(up[j] for j in slots),
+            down=tuple(down[j] for j in slots),
         )
-        delivered = np.array([deliver(r) for r, _ in group])
+        delivered = bool(deliver(r))
         inputs = ResourceInputs(
-            send=tuple(np.array([s[q] in sends for s in slots]) for q in range(size)),
-            deliver_up=(delivered,) * size,
-            deliver_down=(delivered,) * size,
+            send=tuple(j in sends for j in slots), deliver_up=(delivered,) * size, deliver_down=(delivered,) * size
         )
         nxt, out = check_step(
             RESOURCES, Stateless(), part, inputs, RESOURCE_PROPERTIES, self.step_count, traces=self.traces
         )
-        for b, (r, trains) in enumerate(group):
-            code = int(nxt.owner[0][b])
-            owner[r] = float(trains[code - 1] + 1) if code else 0.0
-            for q, (k, j) in enumerate(zip(trains, slots[b], strict=True)):
-                holding[j], up[j], down[j] = float(nxt.holding[q][b]), float(nxt.up[q][b]), float(nxt.down[q][b])
-                if up[j] or down[j]:
-                    self.in_flight.add(j)
-                else:
-                    self.in_flight.discard(j)
-                held = bool(out.held[q][b])
-                self.held[k][r] = held
-                (self.held_sets[k].add if held else self.held_sets[k].discard)(r)
+        holder = int(nxt.owner[0])
+        owner[r] = float(trains[holder - 1] + 1) if holder else 0.0
+        for q, (k, j) in enumerate(zip(trains, slots, strict=True)):
+            holding[j], up[j], down[j] = float(nxt.holding[q]), float(nxt.up[q]), float(nxt.down[q])
+            if up[j] or down[j]:
+                self.in_flight.add(j)
+            else:
+                self.in_flight.discard(j)
+            held = bool(out.held[q])
+            self.held[k][r] = held
+            (self.held_sets[k].add if held else self.held_sets[k].discard)(r)
 
     def _behind_m(self, k: int, r: int) -> float:
         """How far resource ``r`` starts ahead of train ``k``'s rear (on a loop, going round)."""

@@ -5,19 +5,22 @@ arguments' numbers and booleans; every operation it performs is recorded as one 
 compiled into a Python function that performs the same operations, in the same order, with the concrete
 backend's own operations for ``const``, ``min``, ``max``, ``select``, ``find``, ``first_above``, ``floor`` and
 ``sort_by_key``, and Python's operators for the rest (what :class:`~atcs.model.ops.exact.ExactOps` and
-:class:`~atcs.model.ops.floating.FloatOps` do on scalars). What it saves is the dispatch, not arithmetic: the
-program computes what the function computes, to the bit.
+:class:`~atcs.model.ops.floating.FloatOps` do on scalars; comparisons of two Fractions as Fraction's own
+cross-multiplication, without its dispatch). On a batch (an argument holds numpy arrays) every Ops operation is the
+backend's own call. What it saves is the dispatch and the function calls, not arithmetic: the program computes what
+the function computes, to the bit.
 
 A trace holds for the shape it was made on: the lengths of the tuples and the types of the leaves of every
-argument (:func:`shape`). A function that branches in Python on a traced value (``if``, ``and``, ``==``, an index)
-cannot be traced, as it cannot be proved: :class:`Term` refuses ``bool()``, ``==`` and ``__index__``, and
-:func:`trace` raises :class:`Untraceable`.
+argument (:func:`shape`; an array's type, dtype and dimensions, not its length). A function that branches in Python
+on a traced value (``if``, ``and``, ``==``, an index) cannot be traced, as it cannot be proved: :class:`Term`
+refuses ``bool()``, ``==`` and ``__index__``, and :func:`trace` raises :class:`Untraceable`.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import itertools
+import sys
 from collections.abc import Callable
 from fractions import Fraction
 from typing import Any
@@ -25,7 +28,8 @@ from typing import Any
 from atcs.model.errors import AtcsError
 
 LEAVES = (Fraction, float, int, bool)
-"""The types traced as values; any other leaf (None, a string, an array) makes an argument untraceable."""
+"""The types traced as values, besides numpy arrays; any other leaf (None, a string) makes an argument
+untraceable."""
 
 
 class Untraceable(AtcsError, TypeError):
@@ -157,6 +161,8 @@ class _Program:
         self.lines: list[str] = []
         self.namespace: dict[str, Any] = {"_ops": ops}
         self._counter = itertools.count()
+        self.arrays = False
+        """An argument has numpy arrays (a batch): every Ops operation is then the backend's own call."""
 
     def fresh(self, prefix: str = "t") -> str:
         return f"{prefix}{next(self._counter)}"
@@ -199,6 +205,8 @@ class TraceOps:
         return Term(self._p, repr(bool(value)), bool)
 
     def ite(self, cond, then, else_):
+        if self._p.arrays:
+            return self._call("ite", cond, then, else_)
         r = self._p.ref
         return self._p.assign(f"{r(then)} if {r(_truth(cond))} else {r(else_)}", _common_kind((then, else_)))
 
@@ -209,19 +217,29 @@ class TraceOps:
         return self._call("max", first, *rest, kind=_common_kind((first, *rest)))
 
     def and_(self, *args):
+        if self._p.arrays:
+            return self._call("and_", *args)
         return self._p.assign(" and ".join(self._p.ref(_truth(a)) for a in args) if args else "True", bool)
 
     def or_(self, *args):
+        if self._p.arrays:
+            return self._call("or_", *args)
         return self._p.assign(" or ".join(self._p.ref(_truth(a)) for a in args) if args else "False", bool)
 
     def not_(self, arg):
+        if self._p.arrays:
+            return self._call("not_", arg)
         return self._p.assign(f"not {self._p.ref(_truth(arg))}", bool)
 
     def implies(self, antecedent, consequent):
+        if self._p.arrays:
+            return self._call("implies", antecedent, consequent)
         r = self._p.ref
         return self._p.assign(f"not {r(_truth(antecedent))} or {r(_truth(consequent))}", bool)
 
     def eq(self, left, right):
+        if self._p.arrays:
+            return self._call("eq", left, right)
         a, b = self._p.ref(left), self._p.ref(right)
         if _kind(left) is Fraction and _kind(right) is Fraction:  # Fractions are kept in lowest terms
             return self._p.assign(f"{a}._numerator == {b}._numerator and {a}._denominator == {b}._denominator", bool)
@@ -248,6 +266,14 @@ class TraceOps:
 
 
 _LEAF_TYPES = frozenset(LEAVES)
+
+
+def _is_array(value) -> bool:
+    """A numpy array: a batch, one element per train (numpy is not imported here: see the float backend)."""
+    numpy = sys.modules.get("numpy")
+    return numpy is not None and type(value) is numpy.ndarray
+
+
 _FIELD_NAMES: dict[type, tuple[str, ...]] = {}
 
 
@@ -260,6 +286,8 @@ def shape(value) -> Any:
     if kind is tuple:
         kinds = tuple(map(type, value))
         return kinds if _LEAF_TYPES.issuperset(kinds) else tuple(map(shape, value))
+    if _is_array(value):
+        return (kind, value.dtype.str, value.ndim)
     names = _FIELD_NAMES.get(kind)
     if names is None:
         if not dataclasses.is_dataclass(value):
@@ -273,6 +301,9 @@ def _placeholder(program: _Program, value, source: str):
     kind = type(value)
     if kind in LEAVES:
         return _Leaf(program, source, kind)
+    if _is_array(value):
+        program.arrays = True
+        return _Leaf(program, source, None)
     if kind is tuple:
         return tuple(_placeholder(program, v, f"{source}[{j}]") for j, v in enumerate(value))
     fields = {
@@ -334,13 +365,20 @@ def trace(function: Callable[..., Any], ops, *examples) -> Callable[..., Any]:
     return _compile(program, arguments, [*program.lines, f"return {result}"], _name(function))
 
 
+def _all(value) -> bool:
+    """A predicate's value on a batch holds: it holds for every train."""
+    return value if type(value) is bool else bool(sys.modules["numpy"].all(value))
+
+
 def trace_first_false(predicates, ops, *examples) -> Callable[..., int]:
     """One program for the predicates ``predicate(ops, *args) -> bool`` in turn, for arguments of the shape of
-    ``examples``: returns the index of the first that is false, or -1 if all hold. Each predicate is evaluated
+    ``examples``: returns the index of the first that is false (on a batch: false for some train), or -1 if all
+    hold. Each predicate is evaluated
     only if those before it hold (as one checks them in turn); one that cannot be traced is called as it is."""
     for example in examples:
         shape(example)
     program = _Program(ops)
+    program.namespace["_all"] = _all
     arguments = [f"a{j}" for j in range(len(examples))]
     placeholders = [_placeholder(program, example, name) for example, name in zip(examples, arguments, strict=True)]
     for index, predicate in enumerate(predicates):
@@ -352,8 +390,8 @@ def trace_first_false(predicates, ops, *examples) -> Callable[..., int]:
             program.namespace[called] = predicate
             program.lines.append(f"if not {called}(_ops, {', '.join(arguments)}): return {index}")
             continue
-        held = _traced(program, predicate, placeholders)
-        program.lines.append(f"if not {program.ref(held)}: return {index}")
+        held = program.ref(_traced(program, predicate, placeholders))
+        program.lines.append(f"if not {f'_all({held})' if program.arrays else held}: return {index}")
     return _compile(program, arguments, [*program.lines, "return -1"], "predicates")
 
 
