@@ -10,6 +10,7 @@ assumptions a property claims nothing). Works with scalars or with numpy arrays
 from __future__ import annotations
 
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,19 +55,21 @@ def _checked(prop: Property):
 
 @dataclass(frozen=True)
 class _Traced:
-    """A node's step and the check of its properties, each traced once for one shape of its arguments."""
+    """Programs traced once for one shape of their arguments: a function's (``run``), or a node's step (``run``)
+    and the check of its properties (``first_false``)."""
 
-    step: Any
-    first_false: Any
+    run: Any
+    first_false: Any = None
     keeps: tuple = ()
-    """The node, properties and backend the trace is of: kept alive while the trace is, so that their ids,
-    which key it, are not reused."""
+    """The functions, properties and backend traced: kept alive while the trace is, so that their ids, which key
+    it, are not reused."""
 
 
 class Traces:
-    """The programs traced from checked nodes and their properties (:mod:`atcs.model.ops.traced`), one per node,
+    """The programs traced from the simulator's functions (:mod:`atcs.model.ops.traced`), one per function,
     backend and shape of the arguments, traced on first sight; the most recently used are kept. A simulation
-    keeps its own, so that each traces the functions as they are when it starts."""
+    keeps its own, so that each traces the functions as they are when it starts. Where the arguments cannot be
+    traced (a function that branches on a value) the function itself runs."""
 
     KEPT = 512  # shapes (the simulator's route windows come in a few dozen lengths)
 
@@ -76,27 +79,42 @@ class Traces:
     def __len__(self) -> int:
         return len(self._programs)
 
-    def get(self, node: Node, params, state, inputs, properties: tuple[Property, ...], ops) -> _Traced | None:
-        """The traced step and check for these arguments' shape, or None where they cannot be traced (numpy
-        arrays, a function that branches on a value): then the functions are run as they are."""
-        try:
-            key = (id(node), id(ops), tuple(map(id, properties)), shape((params, state, inputs)))
-        except Untraceable:
-            return None
+    def _program(self, key, make: Callable[[], _Traced]) -> _Traced | None:
         if key in self._programs:
             self._programs.move_to_end(key)
             return self._programs[key]
         try:
-            step = trace(node.step, ops, params, state, inputs)
-            nxt, out = step(params, state, inputs)
-            checks = trace_first_false([_checked(p) for p in properties], ops, params, state, inputs, out, nxt)
-            traced = _Traced(step, checks, (node, ops, properties))
+            traced = make()
         except Untraceable:
             traced = None
         self._programs[key] = traced
         if len(self._programs) > self.KEPT:
             self._programs.popitem(last=False)
         return traced
+
+    def call(self, function: Callable[..., Any], ops, *args):
+        """``function(ops, *args)``, as its traced program where the arguments can be traced."""
+        try:
+            key = (id(function), id(ops), shape(args))
+        except Untraceable:
+            return function(ops, *args)
+        traced = self._program(key, lambda: _Traced(trace(function, ops, *args), keeps=(function, ops)))
+        return traced.run(*args) if traced is not None else function(ops, *args)
+
+    def node(self, node: Node, params, state, inputs, properties: tuple[Property, ...], ops) -> _Traced | None:
+        """The traced step and check for these arguments' shape, or None where they cannot be traced."""
+        try:
+            key = (id(node), id(ops), tuple(map(id, properties)), shape((params, state, inputs)))
+        except Untraceable:
+            return None
+
+        def make() -> _Traced:
+            step = trace(node.step, ops, params, state, inputs)
+            nxt, out = step(params, state, inputs)
+            checks = trace_first_false([_checked(p) for p in properties], ops, params, state, inputs, out, nxt)
+            return _Traced(step, checks, (node, ops, properties))
+
+        return self._program(key, make)
 
 
 def check_step(
@@ -115,9 +133,9 @@ def check_step(
     With ``traces``, the step and the checks run as the straight-line programs traced from the very functions
     (the same operations in the same order, without the backend's dispatch), wherever the arguments can be
     traced; without, the functions themselves run."""
-    programs = traces.get(node, params, state, inputs, properties, ops) if traces is not None else None
+    programs = traces.node(node, params, state, inputs, properties, ops) if traces is not None else None
     if programs is not None:
-        nxt, out = programs.step(params, state, inputs)
+        nxt, out = programs.run(params, state, inputs)
         failed = programs.first_false(params, state, inputs, out, nxt)
         if failed >= 0:
             raise PropertyViolation(properties[failed], step, state, inputs, out)
@@ -138,6 +156,8 @@ class Monitor:
     state: Any
     properties: tuple[Property, ...] = ()
     ops: Any = FLOAT
+    traces: Traces | None = None
+    """Where given, the node's step runs as its traced program (:meth:`Traces.call`)."""
     step_count: int = field(default=0, init=False)
     _active: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
 
@@ -156,7 +176,10 @@ class Monitor:
     def step(self, inputs):
         """Run one cycle; return the outputs, or raise :class:`PropertyViolation`."""
         o, p, s = self.ops, self.params, self.state
-        nxt, out = self.node.step(o, p, s, inputs)
+        if self.traces is not None:
+            nxt, out = self.traces.call(self.node.step, o, p, s, inputs)
+        else:
+            nxt, out = self.node.step(o, p, s, inputs)
         for prop in self.properties:
             active = o.and_(self._active[prop.name], prop.assumed(o, p, s, inputs))
             self._active[prop.name] = active

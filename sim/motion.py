@@ -43,7 +43,8 @@ def move(
     v_next = max(0.0, v + a * dt)
     distance = v * v / (-2 * a) if v_next == 0.0 and a < 0 else (v + v_next) / 2 * dt
     state = PlantState(front_m=train.front_m, speed_mps=v, brake_cycles=train.brake_cycles)
-    if not plant_admits(FLOAT, p, state, emergency_brake, v_next, distance):
+    check = (lambda *args: sim.traces.call(plant_admits, *args)) if sim.traces is not None else plant_admits
+    if not check(FLOAT, p, state, bool(emergency_brake), v_next, distance):
         raise SafetyViolation(
             f"the motion ({v:.3f} -> {v_next:.3f} m/s over {distance:.3f} m) leaves the proofs' plant bounds",
             train.spec.name,

@@ -244,7 +244,7 @@ class Simulation:
         return TrainRun(
             spec=spec,
             plant=float_record(plant),
-            position=Monitor(POSITION, float_record(pos), POSITION_AT_POWER_UP),
+            position=Monitor(POSITION, float_record(pos), POSITION_AT_POWER_UP, traces=self.traces),
             authority=AUTHORITY_AT_POWER_UP,
             authority_params=authority,
             ats_status=ATS_STATUS_AT_POWER_UP,

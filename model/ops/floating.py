@@ -120,6 +120,12 @@ class FloatOps:
 
     def find(self, keys, key):
         check_table("find", keys)
+        scalars = type(key) in _SCALARS and _SCALARS.issuperset(map(type, keys))
+        if scalars and key == key:  # the search in C (a NaN key, which would match itself there, takes the loop)
+            try:
+                return True, float(tuple(keys).index(key))  # the first entry equal to the key
+            except ValueError:
+                return False, 0.0
         if not _any_array(key, *keys):
             for j, k in enumerate(keys):
                 if k == key:

@@ -178,7 +178,9 @@ class _Program:
             if value._program is not self:
                 raise Untraceable("a term of another trace")
             return value.bind()
-        if type(value) is tuple:
+        if type(value) is _ArgumentTuple and value._program is self:
+            return value.bind()
+        if isinstance(value, tuple):
             return "(" + "".join(f"{self.ref(v)}, " for v in value) + ")"
         if type(value) in (bool, type(None)):
             return repr(value)
@@ -246,20 +248,20 @@ class TraceOps:
         return self._p.assign(f"{a} == {b}", bool)
 
     def select(self, values, index):
-        return self._call("select", tuple(values), index, kind=_common_kind(values))
+        return self._call("select", _as_tuple(values), index, kind=_common_kind(values))
 
     def find(self, keys, key):
-        pair = self._call("find", tuple(keys), key)
+        pair = self._call("find", _as_tuple(keys), key)
         return self._p.assign(f"{pair.name}[0]"), self._p.assign(f"{pair.name}[1]")
 
     def first_above(self, keys, key):
-        return self._call("first_above", tuple(keys), key)
+        return self._call("first_above", _as_tuple(keys), key)
 
     def floor(self, value):
         return self._call("floor", value)
 
     def sort_by_key(self, keys, *columns):
-        result = self._call("sort_by_key", tuple(keys), *(tuple(c) for c in columns))
+        result = self._call("sort_by_key", _as_tuple(keys), *(_as_tuple(c) for c in columns))
         return tuple(
             tuple(self._p.assign(f"{result.name}[{c}][{k}]") for k in range(len(keys))) for c in range(len(columns) + 1)
         )
@@ -284,8 +286,7 @@ def shape(value) -> Any:
     if kind in _LEAF_TYPES:
         return kind
     if kind is tuple:
-        kinds = tuple(map(type, value))
-        return kinds if _LEAF_TYPES.issuperset(kinds) else tuple(map(shape, value))
+        return _tuple_shape(value)
     if _is_array(value):
         return (kind, value.dtype.str, value.ndim)
     names = _FIELD_NAMES.get(kind)
@@ -293,7 +294,43 @@ def shape(value) -> Any:
         if not dataclasses.is_dataclass(value):
             raise Untraceable(f"a {kind.__name__} leaf cannot be traced")
         names = _FIELD_NAMES[kind] = tuple(f.name for f in dataclasses.fields(value))
-    return (kind, *[shape(getattr(value, name)) for name in names])
+    shapes: list[Any] = [kind]
+    for name in names:  # the leaves and tuples of a record inline: this runs for every checked step
+        field = getattr(value, name)
+        field_kind = type(field)
+        if field_kind in _LEAF_TYPES:
+            shapes.append(field_kind)
+        elif field_kind is tuple:
+            shapes.append(_tuple_shape(field))
+        else:
+            shapes.append(shape(field))
+    return tuple(shapes)
+
+
+def _tuple_shape(value: tuple) -> Any:
+    kinds = set(map(type, value))
+    if len(kinds) == 1 and kinds <= _LEAF_TYPES:  # the common case, kept short: a table of numbers
+        return (len(value), *kinds)
+    return tuple(map(type, value)) if kinds <= _LEAF_TYPES else tuple(map(shape, value))
+
+
+class _ArgumentTuple(tuple):
+    """An argument's tuple of numbers or booleans, as the function received it: passed whole to an Ops operation
+    (a table lookup), the program passes the argument itself rather than a tuple rebuilt from its entries."""
+
+    def __new__(cls, entries, program: _Program, source: str):
+        made = super().__new__(cls, entries)
+        made._program, made._source, made._name = program, source, ""
+        return made
+
+    def bind(self) -> str:
+        if not self._name:
+            self._name = self._program.assign(self._source).name
+        return self._name
+
+
+def _as_tuple(values) -> tuple:
+    return values if isinstance(values, tuple) else tuple(values)
 
 
 def _placeholder(program: _Program, value, source: str):
@@ -305,7 +342,8 @@ def _placeholder(program: _Program, value, source: str):
         program.arrays = True
         return _Leaf(program, source, None)
     if kind is tuple:
-        return tuple(_placeholder(program, v, f"{source}[{j}]") for j, v in enumerate(value))
+        entries = [_placeholder(program, v, f"{source}[{j}]") for j, v in enumerate(value)]
+        return _ArgumentTuple(entries, program, source) if all(type(v) in LEAVES for v in value) else tuple(entries)
     fields = {
         f.name: _placeholder(program, getattr(value, f.name), f"{source}.{f.name}") for f in dataclasses.fields(value)
     }
