@@ -8,7 +8,7 @@ faults, not for its plan.
 
 from __future__ import annotations
 
-from atcs.model.ato import ATO, SPEED_LIMIT, ato_preconditions
+from atcs.model.ato import ATO, FAR, MA_END, SPEED_LIMIT, ato_preconditions
 from atcs.properties.property import Assumption, Property
 
 PLANNING_DATA = Assumption(
@@ -55,6 +55,54 @@ def _ma_speed_with_no_nearer_limit(o, p, s, i, out, nxt):
     return o.implies(o.and_(_ma_near(o, p, i), i.next_limit_m >= i.ma_end_m), out.target_speed_mps <= i.ma_speed_mps)
 
 
+def _targets(o, p, i):
+    """The three targets of seed 003 §2.1 and §2.2: the smaller of the limit in force and the train's maximum (at
+    the front), the next lower limit (at most that) and the MA's speed (at most both limits)."""
+    cap = o.min(i.line_limit_mps, p.train_max_mps)
+    limit = o.min(i.next_limit_mps, cap)
+    return cap, limit, o.min(i.ma_speed_mps, limit)
+
+
+def _modes(o, p, i):
+    """``(limit near, MA near, the MA needs at least the limit's deceleration)`` (seed 003 §2.1.1, §2.1.2 Fig. 6,
+    §2.2.1, §2.2.2): a target is near at or behind the front, or within its braking distance at the planning
+    deceleration plus the margin (the limit only while the train is faster than it); the deceleration a target
+    needs is ``(v^2 - u^2) / (2 d)``, infinite at ``d <= 0``."""
+    _, limit, ma = _targets(o, p, i)
+    zero, v2 = o.const(0), i.speed_mps * i.speed_mps
+    d_limit, d_ma = i.next_limit_m - i.front_m, i.ma_end_m - i.front_m
+    limit_near = o.or_(d_limit <= zero, o.and_(i.speed_mps > limit, _braking_distance_holds(o, p, i, d_limit, limit)))
+    ma_near = o.or_(d_ma <= zero, _braking_distance_holds(o, p, i, d_ma, ma))
+    ma_steeper = o.or_(d_ma <= zero, o.and_(d_limit > zero, (v2 - ma * ma) * d_limit >= (v2 - limit * limit) * d_ma))
+    return limit_near, ma_near, ma_steeper
+
+
+def _chosen(o, out, speed_mps, location_m, reason):
+    return o.and_(
+        o.eq(out.target_speed_mps, speed_mps), o.eq(out.target_location_m, location_m), o.eq(out.target_reason, reason)
+    )
+
+
+def _far_mode(o, p, s, i, out, nxt):
+    cap, _, _ = _targets(o, p, i)
+    limit_near, ma_near, _ = _modes(o, p, i)
+    return o.implies(o.not_(o.or_(limit_near, ma_near)), _chosen(o, out, cap, i.front_m, o.const(FAR)))
+
+
+def _ma_mode(o, p, s, i, out, nxt):
+    _, _, ma = _targets(o, p, i)
+    limit_near, ma_near, ma_steeper = _modes(o, p, i)
+    ma_wins = o.and_(ma_near, o.or_(o.not_(limit_near), ma_steeper))
+    return o.implies(ma_wins, _chosen(o, out, ma, i.ma_end_m, o.const(MA_END)))
+
+
+def _limit_mode(o, p, s, i, out, nxt):
+    _, limit, _ = _targets(o, p, i)
+    limit_near, ma_near, ma_steeper = _modes(o, p, i)
+    limit_wins = o.and_(limit_near, o.not_(o.and_(ma_near, ma_steeper)))
+    return o.implies(limit_wins, _chosen(o, out, limit, i.next_limit_m, o.const(SPEED_LIMIT)))
+
+
 def _property(name, requirement, text, holds):
     return Property(
         name=name,
@@ -95,5 +143,29 @@ PROPERTIES = (
         "Within the MA's braking distance, with no lower limit nearer than the MA, the ATO's target speed is at "
         "most the MA speed.",
         _ma_speed_with_no_nearer_limit,
+    ),
+    _property(
+        "ato.far_mode",
+        "ATO-05",
+        "Neither the MA nor a lower limit near (neither at or behind the front nor within its braking distance, "
+        "the limit only while the train is faster than it), the ATO drives towards the smaller of the limit in "
+        "force and the train's maximum, at the front (seed 003 §2.1 and §2.2, first bullets).",
+        _far_mode,
+    ),
+    _property(
+        "ato.ma_mode",
+        "ATO-06",
+        "The MA near, and no lower limit near or the MA needing at least its deceleration (a tie included), the ATO "
+        "drives towards the MA: the smallest of the MA speed and both limits, at the MA's end (§2.1.2 Fig. 6, "
+        "§2.2.2).",
+        _ma_mode,
+    ),
+    _property(
+        "ato.limit_mode",
+        "ATO-07",
+        "A lower limit near, and the MA not near or needing less deceleration than the limit, the ATO drives "
+        "towards that limit (at most the limit in force and the train's maximum), where it starts (§2.1.1, §2.1.2 "
+        "Fig. 6, §2.2.1).",
+        _limit_mode,
     ),
 )

@@ -49,6 +49,14 @@ def _time_stamp(o, p, s, i, out, nxt):
     return o.and_(out.report_sent_s <= i.clock_s, i.clock_s - o.const("1/1000") < out.report_sent_s)
 
 
+def _whole_units(o, p, s, i, out, nxt):
+    def whole(value, per_unit):
+        scaled = value * o.const(per_unit)
+        return o.eq(o.floor(scaled), scaled)
+
+    return o.and_(whole(out.report_rear_m, 100), whole(out.report_speed_mps, 100), whole(out.report_sent_s, 1000))
+
+
 def _property(name, requirement, seed, text, holds, assumptions=(SENDER_POSITION,)):
     return Property(
         name=name, requirement=requirement, seed=seed, text=text, node=T2T_REPORT, holds=holds, assumptions=assumptions
@@ -80,6 +88,16 @@ PROPERTIES = (
         "The time stamp a report carries is the sender's clock rounded down to the millisecond: never ahead of it, "
         "less than 1 ms behind.",
         _time_stamp,
+        assumptions=(),
+    ),
+    _property(
+        "t2t_report.whole_units",
+        "T2T-04",
+        "001 §3.2 (Fig. 5 iii)",
+        "A report carries its rear in whole centimetres, its speed in whole cm/s and its time stamp in whole "
+        "milliseconds, the units of its fields (D_REAR, V_MIN, T_SENT): the bytes carry exactly the values T2T-01 "
+        "to T2T-03 are about.",
+        _whole_units,
         assumptions=(),
     ),
 )

@@ -421,6 +421,16 @@ MUTANTS = {
         "o.min(ma_speed_mps, limit_target_mps)",
         "o.max(ma_speed_mps, limit_target_mps)",
     ),
+    # a limit the train runs exactly at taken as near: the ATO brakes for it with nothing near
+    "ato.far_mode": (ato.choose_target, "speed_mps > limit_target_mps", "speed_mps >= limit_target_mps"),
+    # the MA chosen only when it needs strictly more deceleration: a tie goes to the limit
+    "ato.ma_mode": (
+        ato.needs_at_least_the_deceleration_of,
+        "first_needs >= second_needs",
+        "first_needs > second_needs",
+    ),
+    # a limit starting exactly at the front not taken as in force: the ATO drives on at the cap
+    "ato.limit_mode": (ato.choose_target, "limit_distance_m <= o.const(0)", "limit_distance_m < o.const(0)"),
 }
 
 

@@ -121,6 +121,8 @@ MUTANTS = {
         "o.floor(sent_s * ms) / ms",
         "(o.floor(sent_s * ms) + o.const(1)) / ms",
     ),
+    # the rear rounded to the inch: D_REAR (cm) cannot carry it, the bytes say less than the node
+    "t2t_report.whole_units": (t2t_message.report_quantities, "cm, ms = o.const(100)", 'cm, ms = o.const("39.37")'),
 }
 T2T_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("t2t_report.")]
 
