@@ -37,7 +37,7 @@ from atcs.model.psl import MRSP_UPDATE, PROFILE_SPLICE, PSL
 from atcs.model.resources import RESOURCES
 from atcs.model.separation import TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
-from atcs.model.t2t_message import T2T_REPORT
+from atcs.model.t2t_message import T2T_CODEC, T2T_REPORT
 
 NODES: dict[str, Node] = {
     node.name: node
@@ -82,6 +82,7 @@ NODES: dict[str, Node] = {
         TARGETS,
         ATO,
         T2T_REPORT,
+        T2T_CODEC,
     )
 }
 

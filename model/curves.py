@@ -311,14 +311,19 @@ def guided_permitted_location_m(
     )
 
 
+def bec_speed_deltas_mps(o: Ops, t: TrainData, n: NationalData, a_est_mps2):
+    """``(V_delta0, V_delta1)`` of ``V_bec``: the speed inaccuracy (0 where inhibited) and the acceleration over
+    the traction cut-off time (Subset-026 §3.13.9.3.2, the EBI)."""
+    zero = o.const(0)
+    return o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps), o.max(zero, a_est_mps2) * t.t_traction_s
+
+
 def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target, speed_mps, a_est_mps2):
     """``(V_bec, D_bec)``: the worst-case speed and distance until the emergency brake is effective."""
     zero = o.const(0)
     t_berem = o.max(zero, t.t_be_s - t.t_traction_s)
-    a_est1 = o.max(zero, a_est_mps2)
     a_est2 = o.min(o.max(zero, a_est_mps2), o.const(A_EST2_CAP_MPS2))
-    v_d0 = o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)
-    v_d1 = a_est1 * t.t_traction_s
+    v_d0, v_d1 = bec_speed_deltas_mps(o, t, n, a_est_mps2)
     v_d2 = a_est2 * t_berem
     v_cut = o.max(speed_mps + v_d0 + v_d1, target.speed_mps)
     v_bec = v_cut + v_d2
@@ -331,11 +336,9 @@ def bec_speed_and_distance(o: Ops, t: TrainData, n: NationalData, target: Target
 
 def bec_train_speed_mps(o: Ops, t: TrainData, n: NationalData, speed_mps, a_est_mps2):
     """The least of the train's speeds :func:`bec_speed_and_distance` weighs against the target speed
-    (``V + V_delta0 + V_delta1 / 2``, computed as it does): every target whose speed is at or below it has the
-    same ``(V_bec, D_bec)``."""
-    zero = o.const(0)
-    v_d0 = o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)
-    v_d1 = o.max(zero, a_est_mps2) * t.t_traction_s
+    (``V + V_delta0 + V_delta1 / 2``, the same terms): every target whose speed is at or below it has the same
+    ``(V_bec, D_bec)``."""
+    v_d0, v_d1 = bec_speed_deltas_mps(o, t, n, a_est_mps2)
     return o.min(speed_mps + v_d0 + v_d1, speed_mps + v_d0 + v_d1 / o.const(2))
 
 

@@ -30,23 +30,28 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Generic
 
-from atcs.model.bits import BitReader, BitWriter, PacketError
+from atcs.model.bits import PacketError
 from atcs.model.node import Stateless, stateless_node
-from atcs.model.ops import B, N, Ops
+from atcs.model.ops import B, BitString, N, Ops
 from atcs.model.ops.exact import EXACT
 
 __all__ = [
     "REPORT_BYTES",
+    "T2T_CODEC",
     "T2T_REPORT",
     "ReceivedReport",
     "T2TReport",
     "decode_report",
     "encode_report",
     "min_speed_mps",
+    "report_bits",
+    "report_fields",
+    "report_from_bits",
     "report_quantities",
 ]
 
 _FIELDS = (("NID_ENGINE", 24), ("N_SEQ", 32), ("T_SENT", 32), ("D_REAR", 32), ("V_MIN", 16))
+_WIDTHS = tuple(width for _, width in _FIELDS)
 _SAFETY_BITS = 32
 REPORT_BYTES = (sum(width for _, width in _FIELDS) + _SAFETY_BITS) // 8
 """A report's length on the radio."""
@@ -88,44 +93,65 @@ def report_quantities(o: Ops, rear_m, speed_mps, sent_s):
     return o.floor(rear_m * cm) / cm, o.floor(speed_mps * cm) / cm, o.floor(sent_s * ms) / ms
 
 
+def report_fields(o: Ops, sender_id, seq, sent_s, rear_m, speed_mps) -> tuple:
+    """The report's fields as whole numbers of their units (:data:`_FIELDS`' order): the time stamp in ms, the rear
+    in cm (negative behind the line's origin: :meth:`~atcs.model.ops.Ops.pack_bits` takes it modulo 2^32, two's
+    complement), the speed in cm/s, each rounded down as :func:`report_quantities` rounds it."""
+    ms, cm = o.const(1000), o.const(100)
+    return sender_id, seq, o.floor(sent_s * ms), o.floor(rear_m * cm), o.floor(speed_mps * cm)
+
+
+def report_bits(o: Ops, sender_id, seq, sent_s, rear_m, speed_mps):
+    """The report's bits before its safety code (:data:`_FIELDS`, most significant first)."""
+    fields = report_fields(o, sender_id, seq, sent_s, rear_m, speed_mps)
+    return o.pack_bits(tuple(zip(fields, _WIDTHS, strict=True)))
+
+
+def report_from_bits(o: Ops, bits) -> tuple:
+    """``(sender_id, seq, sent_s, rear_m, speed_mps)`` from a report's bits: D_REAR in two's complement, read as its
+    sign bit (worth -2^31) and the 31 bits after it."""
+    widths = (*_WIDTHS[:3], 1, _WIDTHS[3] - 1, *_WIDTHS[4:])
+    sender_id, seq, sent_ms, rear_sign, rear_rest, speed_cm = o.unpack_bits(bits, widths)
+    rear_cm = rear_rest - rear_sign * o.const(1 << 31)
+    return sender_id, seq, sent_ms / o.const(1000), rear_cm / o.const(100), speed_cm / o.const(100)
+
+
+_RANGES = {
+    "NID_ENGINE": (0, (1 << 24) - 1, ""),
+    "N_SEQ": (0, (1 << 32) - 1, ""),
+    "T_SENT": (0, (1 << 32) - 1, " ms"),
+    "D_REAR": (-(1 << 31), (1 << 31) - 1, " cm (+-21,474,836.47 m)"),
+    "V_MIN": (0, (1 << 16) - 1, " cm/s"),
+}
+"""Each field's range, in its unit: what the report can carry."""
+
+
 def encode_report(report: T2TReport) -> bytes:
-    """The report's bytes; a field outside its range raises :class:`~atcs.model.bits.PacketError` naming it."""
-    rear_m, speed_mps, sent_s = report_quantities(
-        EXACT, Fraction(report.rear_m), Fraction(report.speed_mps), Fraction(report.sent_s)
-    )
-    rear_cm = int(rear_m * 100)
-    if not -(1 << 31) <= rear_cm < 1 << 31:
-        raise PacketError("T2T report", "D_REAR", 88, f"{report.rear_m} m is beyond +-21,474,836.47 m")
-    values = {
-        "NID_ENGINE": report.sender_id,
-        "N_SEQ": report.seq,
-        "T_SENT": int(sent_s * 1000),
-        "D_REAR": rear_cm % (1 << 32),
-        "V_MIN": int(speed_mps * 100),
-    }
-    bits = BitWriter("T2T report")
-    for name, width in _FIELDS:
-        bits.write(name, width, values[name])
-    body = bits.to_bytes()
+    """The report's bytes (:func:`report_bits`, then the safety code); a field outside its range raises
+    :class:`~atcs.model.bits.PacketError` naming it and the bit it starts at."""
+    arguments = (report.sender_id, report.seq, report.sent_s, report.rear_m, report.speed_mps)
+    exact = tuple(Fraction(value) for value in arguments)
+    offset = 0
+    for (name, width), value in zip(_FIELDS, report_fields(EXACT, *exact), strict=True):
+        low, high, unit = _RANGES[name]
+        if value.denominator != 1:
+            raise PacketError("T2T report", name, offset, f"{value} is not a whole number")
+        if not low <= value <= high:
+            raise PacketError("T2T report", name, offset, f"{value}{unit} is outside {low}..{high}{unit}")
+        offset += width
+    body = report_bits(EXACT, *exact).value.to_bytes(REPORT_BYTES - _SAFETY_BITS // 8, "big")
     return body + _safety_code(report.sender_id, body).to_bytes(_SAFETY_BITS // 8, "big")
 
 
 def decode_report(data: bytes, expected_sender_id: int) -> ReceivedReport:
-    """The report in ``data``, intact only if it is a report's length and its safety code checks for
-    ``expected_sender_id`` (the train ahead)."""
+    """The report in ``data`` (:func:`report_from_bits`), intact only if it is a report's length and its safety
+    code checks for ``expected_sender_id`` (the train ahead)."""
     body_bytes = REPORT_BYTES - _SAFETY_BITS // 8
     padded = data[:REPORT_BYTES].ljust(REPORT_BYTES, b"\0")
-    bits = BitReader("T2T report", padded)
-    value = {name: bits.read(name, width) for name, width in _FIELDS}
+    bits = BitString(int.from_bytes(padded[:body_bytes], "big"), 8 * body_bytes)
+    sender_id, seq, sent_s, rear_m, speed_mps = report_from_bits(EXACT, bits)
     code = int.from_bytes(padded[body_bytes:], "big")
-    rear_cm = value["D_REAR"] - (1 << 32) if value["D_REAR"] >= 1 << 31 else value["D_REAR"]
-    report = T2TReport(
-        sender_id=value["NID_ENGINE"],
-        seq=value["N_SEQ"],
-        sent_s=Fraction(value["T_SENT"], 1000),
-        rear_m=Fraction(rear_cm, 100),
-        speed_mps=Fraction(value["V_MIN"], 100),
-    )
+    report = T2TReport(int(sender_id), int(seq), sent_s, rear_m, speed_mps)
     intact = len(data) == REPORT_BYTES and code == _safety_code(expected_sender_id, padded[:body_bytes])
     return ReceivedReport(report, intact)
 
@@ -168,6 +194,44 @@ def t2t_report_step(o: Ops, p: ReportParams, s: Stateless, i: SenderState):
         i.clock_s,
     )
     return s, ReportContent(rear, speed, sent)
+
+
+@dataclass(frozen=True)
+class ReportFields(Generic[N, B]):
+    """A report's fields as the sender gives them (:func:`report_bits`)."""
+
+    sender_id: N
+    seq: N
+    sent_s: N
+    rear_m: N
+    speed_mps: N
+
+
+@dataclass(frozen=True)
+class ReadFields(Generic[N, B]):
+    """The fields the receiver reads from the bits (:func:`report_from_bits`)."""
+
+    read_sender_id: N
+    read_seq: N
+    read_sent_s: N
+    read_rear_m: N
+    read_speed_mps: N
+
+
+def t2t_codec_step(o: Ops, p: Stateless, s: Stateless, i: ReportFields):
+    bits = report_bits(o, i.sender_id, i.seq, i.sent_s, i.rear_m, i.speed_mps)
+    return s, ReadFields(*report_from_bits(o, bits))
+
+
+T2T_CODEC = stateless_node(
+    name="t2t_codec",
+    params=Stateless,
+    inputs=ReportFields,
+    outputs=ReadFields,
+    step=t2t_codec_step,
+    seed="001 §3.2 (Fig. 5 iii); EN 50159",
+)
+"""A report's fields written as bits and read back, every field symbolic, the bits a z3 bit-vector."""
 
 
 T2T_REPORT = stateless_node(

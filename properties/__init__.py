@@ -27,6 +27,7 @@ from atcs.properties import (
     separation,
     stopping_point,
     supervision,
+    t2t_codec,
     t2t_report,
     tacho_check,
     targets,
@@ -70,6 +71,7 @@ PROPERTIES: dict[str, Property] = _register(
     targets.PROPERTIES,
     ato.PROPERTIES,
     t2t_report.PROPERTIES,
+    t2t_codec.PROPERTIES,
 )
 
 

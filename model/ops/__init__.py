@@ -14,8 +14,9 @@ sort.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass
 from fractions import Fraction
-from typing import Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 N = TypeVar("N")
 B = TypeVar("B")
@@ -25,6 +26,19 @@ Constant = int | Fraction | str
 
 Python floats are refused: ``0.1`` is not one tenth, and a proof about a model
 with binary-rounded constants would be about a different model."""
+
+
+@dataclass(frozen=True)
+class BitString:
+    """A concrete backend's bit string (:meth:`Ops.pack_bits`): ``value``'s ``width`` bits, most significant
+    first."""
+
+    value: int
+    width: int
+
+    def __post_init__(self):
+        if not 0 <= self.value < 1 << self.width:
+            raise ValueError(f"bit string: {self.value} does not fit {self.width} bits")
 
 
 class Ops(Protocol[N, B]):
@@ -81,6 +95,16 @@ class Ops(Protocol[N, B]):
         ``o.floor(x * 100) / 100`` in cm). The symbolic one is z3's ``to_int``, so a proof reasons about it
         exactly."""
 
+    def pack_bits(self, fields: Sequence[tuple[N, int]]) -> Any:
+        """The ``(value, width)`` fields as one bit string, most significant first, as an ETCS packet or a T2T
+        report carries them (Subset-026-7 §7.3): each field is ``floor(value) mod 2^width`` in ``width`` bits (the
+        same total function in every backend; a codec keeps its values within their fields). Concrete backends give
+        a :class:`BitString`; the symbolic one a z3 bit-vector, so a proof reasons about fields as bits."""
+
+    def unpack_bits(self, bits: Any, widths: Sequence[int]) -> tuple[N, ...]:
+        """The unsigned fields of ``bits`` (from :meth:`pack_bits`), most significant first; ``widths`` sum to its
+        width."""
+
     def sort_by_key(self, keys: Sequence[N], *columns: Sequence[N | B]) -> tuple[tuple, ...]:
         """``keys`` in ascending order, stable, and each column permuted alike: ``(keys, *columns)``.
 
@@ -96,6 +120,35 @@ def check_columns(keys: Sequence, columns: Sequence[Sequence]) -> None:
     for index, column in enumerate(columns):
         if len(column) != len(keys):
             raise ValueError(f"sort_by_key: columns[{index}] has {len(column)} entries, keys has {len(keys)}")
+
+
+def check_widths(widths: Sequence[int], total: int | None = None) -> None:
+    """``Ops.pack_bits`` and ``Ops.unpack_bits``'s argument check, shared by the backends: whole positive widths,
+    summing to the bit string's ``total`` when one is given."""
+    for width in widths:
+        if isinstance(width, bool) or not isinstance(width, int) or width < 1:
+            raise ValueError(f"bit field width must be a whole number >= 1, got {width!r}")
+    if total is not None and sum(widths) != total:
+        raise ValueError(f"bit field widths sum to {sum(widths)}, the bit string has {total} bits")
+
+
+def pack_whole_numbers(numbers: Sequence[tuple[int, int]]) -> BitString:
+    """The concrete backends' :meth:`Ops.pack_bits`, on ``(floor(value), width)``."""
+    check_widths([width for _, width in numbers])
+    value = 0
+    for number, width in numbers:
+        value = (value << width) | (number % (1 << width))
+    return BitString(value, sum(width for _, width in numbers))
+
+
+def unpack_whole_numbers(bits: BitString, widths: Sequence[int]) -> list[int]:
+    """The concrete backends' :meth:`Ops.unpack_bits`, as ints."""
+    check_widths(widths, bits.width)
+    fields, shift = [], bits.width
+    for width in widths:
+        shift -= width
+        fields.append((bits.value >> shift) & ((1 << width) - 1))
+    return fields
 
 
 def check_table(what: str, values: Sequence) -> None:
@@ -137,4 +190,18 @@ def backends() -> dict[str, Ops]:
     return {ops.name: ops for ops in (FLOAT, EXACT, SYMBOLIC)}
 
 
-__all__ = ["B", "Constant", "N", "Ops", "backends", "check_columns", "check_table", "to_fraction", "whole_index"]
+__all__ = [
+    "B",
+    "BitString",
+    "Constant",
+    "N",
+    "Ops",
+    "backends",
+    "check_columns",
+    "check_table",
+    "check_widths",
+    "pack_whole_numbers",
+    "to_fraction",
+    "unpack_whole_numbers",
+    "whole_index",
+]

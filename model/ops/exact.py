@@ -9,7 +9,16 @@ import bisect
 import math
 from fractions import Fraction
 
-from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
+from atcs.model.ops import (
+    BitString,
+    Constant,
+    check_columns,
+    check_table,
+    pack_whole_numbers,
+    to_fraction,
+    unpack_whole_numbers,
+    whole_index,
+)
 
 
 class ExactOps:
@@ -67,6 +76,12 @@ class ExactOps:
         check_columns(keys, columns)
         order = sorted(range(len(keys)), key=keys.__getitem__)
         return tuple(tuple(seq[k] for k in order) for seq in (keys, *columns))
+
+    def pack_bits(self, fields) -> BitString:
+        return pack_whole_numbers([(math.floor(value), width) for value, width in fields])
+
+    def unpack_bits(self, bits: BitString, widths) -> tuple[Fraction, ...]:
+        return tuple(Fraction(field) for field in unpack_whole_numbers(bits, widths))
 
 
 _BOOL = frozenset({bool})

@@ -13,7 +13,15 @@ import sys
 from fractions import Fraction
 from functools import reduce
 
-from atcs.model.ops import Constant, check_columns, check_table, to_fraction, whole_index
+from atcs.model.ops import (
+    Constant,
+    check_columns,
+    check_table,
+    pack_whole_numbers,
+    to_fraction,
+    unpack_whole_numbers,
+    whole_index,
+)
 
 _SCALARS = frozenset({float, int, bool})
 
@@ -174,6 +182,23 @@ class FloatOps:
             values = np.stack([np.broadcast_to(v, shape) for v in column])
             result.append(tuple(np.take_along_axis(values, order, axis=0)))
         return tuple(result)
+
+    def pack_bits(self, fields):
+        values = [value for value, _ in fields]
+        if not _any_array(*values):
+            return pack_whole_numbers([(math.floor(value), width) for value, width in fields])
+        # a batch: one bit string per train, as an array of them
+        columns = np.broadcast_arrays(*values)
+        packed = np.empty(columns[0].shape, dtype=object)
+        for j in np.ndindex(packed.shape):
+            packed[j] = pack_whole_numbers([(math.floor(c[j]), w) for c, (_, w) in zip(columns, fields, strict=True)])
+        return packed
+
+    def unpack_bits(self, bits, widths) -> tuple:
+        if not _is_array(bits):
+            return tuple(float(field) for field in unpack_whole_numbers(bits, widths))
+        rows = [unpack_whole_numbers(bits[j], widths) for j in np.ndindex(bits.shape)]
+        return tuple(np.array([float(row[k]) for row in rows]).reshape(bits.shape) for k in range(len(widths)))
 
 
 FLOAT = FloatOps()

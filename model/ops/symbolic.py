@@ -17,7 +17,7 @@ from fractions import Fraction
 import z3
 
 from atcs.model.errors import AtcsError
-from atcs.model.ops import Constant, check_columns, check_table, to_fraction
+from atcs.model.ops import Constant, check_columns, check_table, check_widths, to_fraction
 
 _contexts: list[z3.Context | None] = [None]
 
@@ -245,6 +245,42 @@ class SymbolicOps:
                 for wire in wires:
                     wire[j], wire[j + 1] = z3.If(swap, wire[j + 1], wire[j]), z3.If(swap, wire[j], wire[j + 1])
         return tuple(tuple(wrap(term) for term in wire) for wire in wires)
+
+    def pack_bits(self, fields) -> Bits:
+        check_widths([width for _, width in fields])
+        parts = [z3.Int2BV(z3.ToInt(_term(value)), width) for value, width in fields]
+        return Bits(z3.Concat(*parts) if len(parts) > 1 else parts[0])
+
+    def unpack_bits(self, bits: Bits, widths) -> tuple[Real, ...]:
+        if not isinstance(bits, Bits):
+            raise SymbolicValueError(f"unpack_bits needs a bit string from pack_bits, got {type(bits).__name__}")
+        check_widths(widths, bits.term.size())
+        fields, high = [], bits.term.size() - 1
+        for width in widths:
+            fields.append(Real(z3.ToReal(z3.BV2Int(z3.Extract(high, high - width + 1, bits.term)))))
+            high -= width
+        return tuple(fields)
+
+
+class Bits:
+    """A symbolic bit string (:meth:`SymbolicOps.pack_bits`): only :meth:`SymbolicOps.unpack_bits` reads it."""
+
+    __slots__ = ("term",)
+
+    def __init__(self, term: z3.BitVecRef):
+        self.term = term
+
+    def __bool__(self):
+        raise SymbolicValueError(_BOOL_HINT)
+
+    def __eq__(self, other):
+        raise SymbolicValueError(_EQ_HINT)
+
+    __ne__ = __eq__
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self):
+        return f"Bits({self.term.size()} bits)"
 
 
 SYMBOLIC = SymbolicOps()

@@ -260,6 +260,13 @@ class TraceOps:
     def floor(self, value):
         return self._call("floor", value)
 
+    def pack_bits(self, fields):
+        return self._call("pack_bits", tuple((value, width) for value, width in fields))
+
+    def unpack_bits(self, bits, widths):
+        fields = self._call("unpack_bits", bits, tuple(widths))
+        return tuple(self._p.assign(f"{fields.name}[{k}]") for k in range(len(widths)))
+
     def sort_by_key(self, keys, *columns):
         result = self._call("sort_by_key", _as_tuple(keys), *(_as_tuple(c) for c in columns))
         return tuple(

@@ -149,6 +149,43 @@ class TestSortByKey:
         assert np.stack(tags).T.tolist() == [["z", "y", "x"], ["x", "y", "z"]]
 
 
+class TestBitFields:
+    """``pack_bits`` and ``unpack_bits``: fields most significant first, each ``floor(value) mod 2^width``, the
+    same in every backend (a negative value in two's complement, a fraction rounded down)."""
+
+    FIELDS = (("5", 3), ("-1", 4), ("7.9", 5), ("-2.5", 8))
+    READ = (5, 15, 7, 253)
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    def test_round_trip_and_wrap(self, name):
+        o = backends()[name]
+        read = sym_value if name == "symbolic" else (lambda v: v)
+        bits = o.pack_bits(tuple((o.const(v), w) for v, w in self.FIELDS))
+        assert tuple(read(f) for f in o.unpack_bits(bits, (3, 4, 5, 8))) == self.READ
+        halves = o.unpack_bits(bits, (10, 10))  # any widths summing to the string's: the fields' bits regrouped
+        assert [read(f) for f in halves] == [(5 << 7 | 15 << 3 | 7 >> 2), ((7 & 3) << 8 | 253)]
+
+    @pytest.mark.parametrize("name", ["float", "exact", "symbolic"])
+    @pytest.mark.parametrize(("widths", "message"), [((3, 4), "sum to 7, the bit string has 20"), ((20, 0), ">= 1")])
+    def test_widths_are_checked(self, name, widths, message):
+        o = backends()[name]
+        bits = o.pack_bits(tuple((o.const(v), w) for v, w in self.FIELDS))
+        with pytest.raises(ValueError, match=message):
+            o.unpack_bits(bits, widths)
+
+    def test_float_batch_packs_each_train(self):
+        bits = FLOAT.pack_bits(((np.array([1.0, 2.0]), 4), (3.0, 4)))
+        assert [b.value for b in bits] == [0x13, 0x23]
+        assert [f.tolist() for f in FLOAT.unpack_bits(bits, (4, 4))] == [[1.0, 2.0], [3.0, 3.0]]
+
+    def test_symbolic_bits_refuse_python_use(self):
+        bits = SYMBOLIC.pack_bits(((SYMBOLIC.const(1), 4),))
+        with pytest.raises(SymbolicValueError):
+            bool(bits)
+        with pytest.raises(SymbolicValueError):
+            SYMBOLIC.unpack_bits(SYMBOLIC.const(1), (4,))
+
+
 class TestSymbolicRefusals:
     def setup_method(self):
         self.x, self.y = Real(z3.Real("x")), Real(z3.Real("y"))

@@ -1,6 +1,6 @@
 """The T2T report on the radio (model/t2t_message.py): fields rounded to the safe side (and proved so of what a
-report says of its sender: T2T-01 to T2T-03), and every corruption of the kinds CRC-32 guarantees to catch, and
-every other sender, detected."""
+report says of its sender: T2T-01 to T2T-04), its bits read as written (proved: T2T-05 to T2T-09), and every
+corruption of the kinds CRC-32 guarantees to catch, and every other sender, detected."""
 
 import itertools
 import random
@@ -124,7 +124,41 @@ MUTANTS = {
     # the rear rounded to the inch: D_REAR (cm) cannot carry it, the bytes say less than the node
     "t2t_report.whole_units": (t2t_message.report_quantities, "cm, ms = o.const(100)", 'cm, ms = o.const("39.37")'),
 }
+# property -> (function, text in it, faulty replacement)
+CODEC_MUTANTS = {
+    # the identity read from the sequence number's bits: fields read one bit late
+    "t2t_codec.identity_and_number_read_as_written": (
+        t2t_message.report_from_bits,
+        "widths = (*_WIDTHS[:3], 1, _WIDTHS[3] - 1, *_WIDTHS[4:])",
+        "widths = (_WIDTHS[0] + 1, _WIDTHS[1] - 1, _WIDTHS[2], 1, _WIDTHS[3] - 1, *_WIDTHS[4:])",
+    ),
+    # the time stamp read in hundredths of a second: ten times too old
+    "t2t_codec.time_stamp_read_as_written": (
+        t2t_message.report_from_bits,
+        "sent_ms / o.const(1000)",
+        "sent_ms / o.const(100)",
+    ),
+    # the sign bit read as worth +2^31: a rear behind the origin read 21,474 km ahead
+    "t2t_codec.rear_read_as_written": (
+        t2t_message.report_from_bits,
+        "rear_rest - rear_sign * o.const(1 << 31)",
+        "rear_rest + rear_sign * o.const(1 << 31)",
+    ),
+    # the speed read in mm/s: ten times too slow
+    "t2t_codec.speed_read_as_written": (
+        t2t_message.report_from_bits,
+        "speed_cm / o.const(100)",
+        "speed_cm / o.const(1000)",
+    ),
+    # the sign bit worth 2^32: a rear outside what D_REAR carries
+    "t2t_codec.fields_within_range": (
+        t2t_message.report_from_bits,
+        "rear_rest - rear_sign * o.const(1 << 31)",
+        "rear_rest - rear_sign * o.const(1 << 32)",
+    ),
+}
 T2T_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("t2t_report.")]
+CODEC_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("t2t_codec.")]
 
 
 def test_every_report_property_has_a_mutant():
@@ -141,6 +175,37 @@ def test_proved_by_k_induction(prop, proof_suite_run):
 def test_mutant_falsified_and_counterexample_replays(name):
     run = falsify(PROPERTIES[name], *MUTANTS[name], max_k=1)
     assert run.killed, run
+
+
+# --- the report's bits, proved (T2T-05 to T2T-09) ------------------------------------------------------------------
+
+
+def test_every_codec_property_has_a_mutant():
+    assert set(CODEC_MUTANTS) == {p.name for p in CODEC_PROPERTIES}
+
+
+@pytest.mark.parametrize("prop", CODEC_PROPERTIES, ids=lambda p: p.name)
+def test_codec_proved_by_k_induction(prop, proof_suite_run):
+    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
+    assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
+
+
+@pytest.mark.parametrize("name", sorted(CODEC_MUTANTS))
+def test_codec_mutant_falsified_and_counterexample_replays(name):
+    run = falsify(PROPERTIES[name], *CODEC_MUTANTS[name], max_k=1)
+    assert run.killed, run
+
+
+@given(reports)
+def test_the_bytes_are_the_codec_nodes_bits(report):
+    """encode_report's body is report_bits, decode_report reads it with report_from_bits: the functions the codec
+    properties are about."""
+    fields = tuple(Fraction(v) for v in (report.sender_id, report.seq, report.sent_s, report.rear_m, report.speed_mps))
+    bits = t2t_message.report_bits(EXACT, *fields)
+    data = encode_report(report)
+    assert int.from_bytes(data[: bits.width // 8], "big") == bits.value
+    got = decode_report(data, report.sender_id).report
+    assert (got.sender_id, got.seq, got.sent_s, got.rear_m, got.speed_mps) == t2t_message.report_from_bits(EXACT, bits)
 
 
 def test_the_bytes_carry_the_quantities_the_node_proves_about(report=REPORT):
