@@ -211,4 +211,25 @@ PROPERTIES = (
             )
         ),
     ),
+    Property(
+        name="doors.traction_as_requested_unless_cut",
+        requirement="DOOR-09",
+        seed="004 §2.1, Fig. 1",
+        text=(
+            "ATP and DCU together: traction is applied exactly when the ATO requests it and it is not cut; the doors "
+            "are taken as closed and locked exactly when no door is open, or a door is open and both loops are stuck "
+            "reporting closed: one loop's fault hides no open door, and closed doors cause no false cut-off."
+        ),
+        node=DOOR_LOOP,
+        holds=lambda o, p, s, i, out, nxt: o.and_(
+            o.eq(out.traction_applied, o.and_(i.traction_request, o.not_(out.traction_cut))),
+            o.eq(
+                out.closed_locked,
+                o.or_(
+                    o.not_(o.or_(s.door_open_left, s.door_open_right)),
+                    o.and_(i.loop_a_stuck_closed, i.loop_b_stuck_closed),
+                ),
+            ),
+        ),
+    ),
 )

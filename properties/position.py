@@ -185,6 +185,25 @@ def _front_within_sensor_excess(o, p, s, i, out, nxt):
     )
 
 
+def _nominal_sensors_add_no_excess(o, p, s, i, out, nxt):
+    """The ghost of POS-22 stays as it was through a cycle of the tachometer within its error, and is 0 after a tag
+    read within its window (the tachometer within its error since the passage)."""
+    reset = o.and_(i.tag_read, out.position_valid)
+    passage_m = nxt.front_m - i.distance_since_tag_m
+    tag_m = o.select(p.tag_positions_m, nxt.lrt_index)
+    in_window = o.and_(tag_m - p.tag_window_m <= passage_m, passage_m <= tag_m + p.tag_window_m)
+    return o.and_(
+        o.implies(
+            o.and_(o.not_(reset), _within_tacho_error(o, p, i.distance_m, i.tacho_m)),
+            o.eq(nxt.sensor_excess_m, s.sensor_excess_m),
+        ),
+        o.implies(
+            o.and_(reset, in_window, _within_tacho_error(o, p, i.distance_since_tag_m, i.since_tag_m)),
+            o.eq(nxt.sensor_excess_m, o.const(0)),
+        ),
+    )
+
+
 def _genuine_tag_corrects(o, p, s, i, out, nxt):
     passage_m = nxt.front_m - i.distance_since_tag_m
     w = p.tag_window_m
@@ -364,6 +383,17 @@ PROPERTIES = (
         "a wrong id of the table). Missed tags and reads of ids not in the table at any time. A fault the position "
         "checks do not catch moves the interval off the true front by no more than that.",
         _front_within_sensor_excess,
+        (TABLE,),
+        seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
+    ),
+    _property(
+        "nominal_sensors_add_no_excess",
+        "POS-25",
+        "Sensors within their stated errors add nothing to POS-22's widening: a cycle with the tachometer within its "
+        "error and no tag read leaves it as it was, and a tag read within the tag window of the tag whose id was "
+        "read, with the tachometer within its error since the passage, sets it to 0. So with sensors that keep to "
+        "their bounds POS-22 is POS-01's claim.",
+        _nominal_sensors_add_no_excess,
         (TABLE,),
         seed="001 §3.2 (Fig. 7), 002 §3.1; docs/design.md odometry",
     ),

@@ -93,6 +93,18 @@ MUTANTS = {
         # every platform of the table required to span the doors, not one
         (doors.platform_covers_doors, "return o.or_(", "return o.and_("),
     ],
+    "doors.traction_as_requested_unless_cut": [
+        # traction applied whenever it is not cut, requested or not (atcs mutate)
+        (
+            doors.door_loop_step,
+            "o.and_(i.traction_request, o.not_(traction_cut))",
+            "o.or_(i.traction_request, o.not_(traction_cut))",
+        ),
+        # the doors taken as closed on either loop's word: a loop stuck closed hides an open door (atcs mutate)
+        (doors.door_loop_step, "closed_locked=o.and_(loop_a, loop_b)", "closed_locked=o.or_(loop_a, loop_b)"),
+        # a loop that reports closed only when stuck: closed doors cut traction (atcs mutate)
+        (doors.door_loop_step, "o.or_(closed, i.loop_a_stuck_closed)", "o.and_(closed, i.loop_a_stuck_closed)"),
+    ],
     "doors.dcu_follows_commands": [
         # a door that opens only if it is open already: it never opens (atcs mutate)
         (doors.door_next, "return o.or_(opens, ", "return o.and_(opens, "),

@@ -61,6 +61,12 @@ MUTANTS = {
         "offset = o.ite(reset, i.since_tag_m, offset)",
         "offset = o.ite(reset, zero, offset)",
     ),
+    # the tachometer's stated error not allowed for: a tachometer within it counted as beyond it
+    "position.nominal_sensors_add_no_excess": (
+        position_loop.tacho_excess_m,
+        "distance_m - tacho_m - allowed",
+        "distance_m - tacho_m",
+    ),
     # the interval still counted from the previous reference tag after a read: the new tag corrects nothing
     "position.genuine_tag_corrects": (
         position.position_step,
