@@ -13,7 +13,9 @@ the function computes, to the bit.
 A trace holds for the shape it was made on: the lengths of the tuples and the types of the leaves of every
 argument (:func:`shape`; an array's type, dtype and dimensions, not its length). A function that branches in Python
 on a traced value (``if``, ``and``, ``==``, an index) cannot be traced, as it cannot be proved: :class:`Term`
-refuses ``bool()``, ``==`` and ``__index__``, and :func:`trace` raises :class:`Untraceable`.
+refuses ``bool()``, ``==`` and ``__index__``, and :func:`trace` raises :class:`Untraceable`. A check that looks at
+an argument's type (the concrete-only validation of, e.g., ``ato_target_speed``) sees a placeholder as it sees a z3
+term, and is not in the program: validate data before tracing a function of it.
 """
 
 from __future__ import annotations
