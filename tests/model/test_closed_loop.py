@@ -68,7 +68,7 @@ MUTANTS = {
             "-gradient_deceleration_mps2(o, gradient_permille, mass)",
         ),
         # the speed-measurement inaccuracy V_ura ignored
-        (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
+        (curves.bec_speed_deltas_mps, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
     "under_ceiling": [
         # no EB ceiling: only the braking curves supervised

@@ -195,7 +195,7 @@ MUTANTS = {
         # EBI without the brake build-up time
         (curves.bec_speed_and_distance, "+ (v_cut + v_d2 / o.const(2)) * t_berem", ""),
         # the speed-measurement error ignored
-        (curves.bec_speed_and_distance, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
+        (curves.bec_speed_deltas_mps, "o.ite(n.inhibit_speed_inaccuracy, zero, t.v_ura_mps)", "zero"),
     ],
     "ebd_is_braking_curve": [
         # the gradient left out of A_safe (atcs mutate's arith_drop in braking_cells)

@@ -109,33 +109,35 @@ class TestPrograms:
         assert concrete == [5, 2, 1]  # a predicate is not evaluated once one before it is false
 
 
+@pytest.fixture(scope="module")
+def recorded():
+    """The authority node's arguments, every seventh check of 120 cycles of the seed 002 timetable."""
+    from atcs.sim.scenario import load_scenario, resolve
+    from atcs.sim.simulator import AUTHORITY, AUTHORITY_PROPERTIES, Simulation
+
+    steps = []
+    real = monitor.check_step
+
+    def record(node, params, state, inputs, properties, step, ops=FLOAT, traces=None):
+        if node is AUTHORITY:
+            steps.append((params, state, inputs))
+        return real(node, params, state, inputs, properties, step, ops, traces)
+
+    sim = Simulation(load_scenario(resolve("seed002_timetable")))
+    import atcs.sim.simulator as simulator
+
+    original, simulator.check_step = simulator.check_step, record
+    try:
+        for _ in range(120):
+            sim.step()
+    finally:
+        simulator.check_step = original
+    return AUTHORITY, AUTHORITY_PROPERTIES, steps[::7]
+
+
 class TestCheckStep:
-    """The simulator's check of a step, traced (the default) and not, on the authority node of the two-train
-    scenario: the same next state, outputs and verdicts, and a violation names the same property."""
-
-    @pytest.fixture(scope="class")
-    def recorded(self):
-        from atcs.sim.scenario import load_scenario, resolve
-        from atcs.sim.simulator import AUTHORITY, AUTHORITY_PROPERTIES, Simulation
-
-        steps = []
-        real = monitor.check_step
-
-        def record(node, params, state, inputs, properties, step, ops=FLOAT, traces=None):
-            if node is AUTHORITY:
-                steps.append((params, state, inputs))
-            return real(node, params, state, inputs, properties, step, ops, traces)
-
-        sim = Simulation(load_scenario(resolve("seed002_timetable")))
-        import atcs.sim.simulator as simulator
-
-        original, simulator.check_step = simulator.check_step, record
-        try:
-            for _ in range(120):
-                sim.step()
-        finally:
-            simulator.check_step = original
-        return AUTHORITY, AUTHORITY_PROPERTIES, steps[::7]
+    """The simulator's check of a step, traced and not, on the authority node of the seed 002 timetable: the same
+    next state, outputs and verdicts, and a violation names the same property."""
 
     def test_traced_and_direct_agree(self, recorded):
         node, properties, steps = recorded
