@@ -67,8 +67,10 @@ def bench_sim(
     cycles: int = TIMED_CYCLES,
     progress: Callable[[int, int], None] = lambda done, total: None,
 ) -> dict[str, float]:
-    """Wall and CPU time per cycle, per train-cycle, and the real-time factor, for each fleet size, traced and
-    direct side by side; raises AssertionError if the two runs of a fleet end in different states."""
+    """The simulator's time per cycle and real-time factor for each fleet, traced and direct side by side.
+
+    Wall and CPU time per cycle and per train-cycle; raises AssertionError if the two runs of a fleet end in
+    different states."""
     results: dict[str, float] = {}
     rows = []
     total, done = (warm_up + cycles) * sum(fleets) * len(MODES), 0  # in train-cycles
