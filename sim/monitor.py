@@ -43,11 +43,16 @@ def _all(value) -> bool:
     return value if isinstance(value, bool) else bool(np.all(value))
 
 
+def _holds_at_step(prop: Property, o, p, s, i, out, nxt):
+    """``prop`` at one step, its assumptions taken at that step only."""
+    return o.implies(prop.assumed(o, p, s, i), prop.holds(o, p, s, i, out, nxt))
+
+
 def _checked(prop: Property):
-    """``prop`` at one step, its assumptions taken at that step only, as one predicate."""
+    """:func:`_holds_at_step` of ``prop`` as a predicate of the step alone (what a trace is made of)."""
 
     def predicate(o, p, s, i, out, nxt):
-        return o.implies(prop.assumed(o, p, s, i), prop.holds(o, p, s, i, out, nxt))
+        return _holds_at_step(prop, o, p, s, i, out, nxt)
 
     predicate.__qualname__ = prop.name
     return predicate
@@ -142,11 +147,14 @@ def check_step(
         return nxt, out
     nxt, out = node.step(ops, params, state, inputs)
     for prop in properties:
-        if not _all(
-            ops.implies(prop.assumed(ops, params, state, inputs), prop.holds(ops, params, state, inputs, out, nxt))
-        ):
+        if not _all(_holds_at_step(prop, ops, params, state, inputs, out, nxt)):
             raise PropertyViolation(prop, step, state, inputs, out)
     return nxt, out
+
+
+def run(traces: Traces | None, function: Callable[..., Any], ops, *args):
+    """``function(ops, *args)``: as its traced program with ``traces`` (:meth:`Traces.call`), else as it is."""
+    return traces.call(function, ops, *args) if traces is not None else function(ops, *args)
 
 
 @dataclass
@@ -176,10 +184,7 @@ class Monitor:
     def step(self, inputs):
         """Run one cycle; return the outputs, or raise :class:`PropertyViolation`."""
         o, p, s = self.ops, self.params, self.state
-        if self.traces is not None:
-            nxt, out = self.traces.call(self.node.step, o, p, s, inputs)
-        else:
-            nxt, out = self.node.step(o, p, s, inputs)
+        nxt, out = run(self.traces, self.node.step, o, p, s, inputs)
         for prop in self.properties:
             active = o.and_(self._active[prop.name], prop.assumed(o, p, s, inputs))
             self._active[prop.name] = active

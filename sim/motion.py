@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from atcs.model.ops.floating import FLOAT
 from atcs.model.plant import PlantState, gradient_braking_mps2, plant_admits
 from atcs.model.profile import KMH_PER_MPS, value_at
+from atcs.sim.monitor import run
 from atcs.sim.train_run import SafetyViolation, TrainRun
 
 if TYPE_CHECKING:
@@ -43,8 +44,7 @@ def move(
     v_next = max(0.0, v + a * dt)
     distance = v * v / (-2 * a) if v_next == 0.0 and a < 0 else (v + v_next) / 2 * dt
     state = PlantState(front_m=train.front_m, speed_mps=v, brake_cycles=train.brake_cycles)
-    check = (lambda *args: sim.traces.call(plant_admits, *args)) if sim.traces is not None else plant_admits
-    if not check(FLOAT, p, state, bool(emergency_brake), v_next, distance):
+    if not run(sim.traces, plant_admits, FLOAT, p, state, bool(emergency_brake), v_next, distance):
         raise SafetyViolation(
             f"the motion ({v:.3f} -> {v_next:.3f} m/s over {distance:.3f} m) leaves the proofs' plant bounds",
             train.spec.name,
