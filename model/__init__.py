@@ -23,6 +23,7 @@ from atcs.model.dynamic_profile import EXCEEDANCES, MOST_RESTRICTIVE, TARGETS
 from atcs.model.mrsp import MRSP, PROFILE_LOOKUP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
+from atcs.model.platform_packets import PACKET44_CODEC, PACKET69_CODEC
 from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.prepared_curves import (
@@ -83,6 +84,8 @@ NODES: dict[str, Node] = {
         ATO,
         T2T_REPORT,
         T2T_CODEC,
+        PACKET69_CODEC,
+        PACKET44_CODEC,
     )
 }
 

@@ -22,6 +22,8 @@ from atcs.properties import (
     gradient_acceleration,
     most_restrictive,
     mrsp,
+    packet44_codec,
+    packet69_codec,
     position,
     resources,
     separation,
@@ -72,6 +74,8 @@ PROPERTIES: dict[str, Property] = _register(
     ato.PROPERTIES,
     t2t_report.PROPERTIES,
     t2t_codec.PROPERTIES,
+    packet69_codec.PROPERTIES,
+    packet44_codec.PROPERTIES,
 )
 
 

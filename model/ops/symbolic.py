@@ -10,6 +10,7 @@ simulator fails loudly instead.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 from fractions import Fraction
@@ -248,27 +249,61 @@ class SymbolicOps:
 
     def pack_bits(self, fields) -> Bits:
         check_widths([width for _, width in fields])
-        parts = [z3.Int2BV(z3.ToInt(_term(value)), width) for value, width in fields]
-        return Bits(z3.Concat(*parts) if len(parts) > 1 else parts[0])
+        return Bits(tuple((_whole_mod(_term(value), 1 << width), width) for value, width in fields))
 
     def unpack_bits(self, bits: Bits, widths) -> tuple[Real, ...]:
         if not isinstance(bits, Bits):
             raise SymbolicValueError(f"unpack_bits needs a bit string from pack_bits, got {type(bits).__name__}")
-        check_widths(widths, bits.term.size())
-        fields, high = [], bits.term.size() - 1
+        check_widths(widths, bits.width)
+        read, start = [], 0
         for width in widths:
-            fields.append(Real(z3.ToReal(z3.BV2Int(z3.Extract(high, high - width + 1, bits.term)))))
-            high -= width
-        return tuple(fields)
+            end, parts = start + width, []
+            for number, (first, last) in zip(bits.numbers, bits.spans, strict=True):
+                low, high = max(start, first), min(end, last)  # the bits of this read in this packed field
+                if low < high:
+                    if (low, high) != (first, last):
+                        number = (number / (1 << (last - high))) % (1 << (high - low))
+                    parts.append(number * (1 << (end - high)) if end > high else number)
+            read.append(Real(_as_real(parts[0] if len(parts) == 1 else z3.Sum(parts))))
+            start = end
+        return tuple(read)
+
+
+def _whole_mod(term: z3.ArithRef, modulus: int) -> z3.ArithRef:
+    """``floor(term) mod modulus`` as an integer, taken into each branch of an ``ite`` (a field written only in some
+    cases): the same value, in the form z3 decides at once."""
+    if z3.is_app_of(term, z3.Z3_OP_ITE):
+        cond, then, else_ = term.children()
+        return z3.If(cond, _whole_mod(then, modulus), _whole_mod(else_, modulus))
+    if z3.is_rational_value(term):
+        return z3.IntVal(math.floor(Fraction(term.as_fraction())) % modulus, term.ctx)
+    return z3.ToInt(term) % modulus
+
+
+def _as_real(term: z3.ArithRef) -> z3.ArithRef:
+    """An integer ``term`` as a real, taken into each branch of an ``ite``."""
+    if z3.is_app_of(term, z3.Z3_OP_ITE):
+        cond, then, else_ = term.children()
+        return z3.If(cond, _as_real(then), _as_real(else_))
+    return z3.ToReal(term)
 
 
 class Bits:
-    """A symbolic bit string (:meth:`SymbolicOps.pack_bits`): only :meth:`SymbolicOps.unpack_bits` reads it."""
+    """A symbolic bit string (:meth:`SymbolicOps.pack_bits`): its fields as whole numbers, each ``floor(value) mod
+    2^width``; only :meth:`SymbolicOps.unpack_bits` reads it, each field it reads the sum of the packed fields' bits
+    it covers (integer division and remainder by powers of two). The same function as a bit-vector's concatenation
+    and extraction, stated in integer arithmetic: z3 decides a codec's round trips at once this way, where its
+    bit-vector conversions (``int2bv``, ``bv2int``) grow exponentially with the fields."""
 
-    __slots__ = ("term",)
+    __slots__ = ("numbers", "spans", "width")
 
-    def __init__(self, term: z3.BitVecRef):
-        self.term = term
+    def __init__(self, fields: tuple[tuple[z3.ArithRef, int], ...]):
+        self.numbers = tuple(number for number, _ in fields)
+        spans, start = [], 0
+        for _, width in fields:
+            spans.append((start, start + width))
+            start += width
+        self.spans, self.width = tuple(spans), start
 
     def __bool__(self):
         raise SymbolicValueError(_BOOL_HINT)
@@ -280,7 +315,7 @@ class Bits:
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self):
-        return f"Bits({self.term.size()} bits)"
+        return f"Bits({self.width} bits)"
 
 
 SYMBOLIC = SymbolicOps()
