@@ -32,14 +32,11 @@ CERTIFY_Z3_ONLY = (
     "separation.braking_invariant_rbd_seed000",
     "separation.no_collision_rbd_seed000",
     "ato.ma_speed_with_no_nearer_limit",
-    "t2t_codec.rear_read_as_written",
-    "t2t_codec.fields_within_range",
 )
 """The certificates the suite checks with z3 alone (``--z3-only``): cvc5 needs most of the suite's time for the
 first four (docs/benchmarks.md, ``atcs certify``), so the suite has cvc5 confirm the other seed's certificate of
 each of these properties and leaves these ``unconfirmed``; ``atcs certify`` without ``--z3-only`` certifies those
-four with both solvers. ATO-04's nonlinear base check is left ``unknown`` by cvc5 (tried for 2 minutes), and so
-are T2T-07's and T2T-09's, whose signed field mixes integers and bit-vectors (tried for 2 minutes each)."""
+four with both solvers. ATO-04's nonlinear base check is left ``unknown`` by cvc5 (tried for 2 minutes)."""
 
 _BACKGROUND = """
 import json

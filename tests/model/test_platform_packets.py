@@ -1,9 +1,10 @@
 """Platform data from the wayside (seed 004 §2.2-2.3, Tables 1-2): the packet 69 / user packet 44 codec is
-bit-exact, its errors name the field and the bit offset, it survives fuzzing, the platform table is built from a
-packet or a TOML table alike, and ``atcs platforms`` shows it.
+bit-exact, its bits are the codec nodes' (proved: PKT-01 to PKT-12, each with a mutant falsified), its errors name
+the field and the bit offset, it survives fuzzing, the platform table is built from a packet or a TOML table alike,
+and ``atcs platforms`` shows it.
 
 The expected bit strings are built here by hand from the layout (``f"{value:0{width}b}"``), not with the codec's
-own :class:`~atcs.model.bits.BitWriter`.
+own layout tables.
 """
 
 import itertools
@@ -13,8 +14,13 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
+from atcs.model import platform_packets
 from atcs.model.bits import PacketError, hex_bytes
+from atcs.model.ops import BitString
+from atcs.model.ops.exact import EXACT
 from atcs.model.platform_packets import (
+    P44_LAYOUT,
+    P69_LAYOUT,
     Packet44Platforms,
     Packet69,
     PlatformElement,
@@ -35,6 +41,8 @@ from atcs.model.platforms import (
     read_platform_data,
 )
 from atcs.proofs.cli import main
+from atcs.proofs.mutation.mutants import falsify
+from atcs.properties import PROPERTIES
 
 # --- the layout, written out independently of the codec ---------------------------------------------------
 
@@ -830,3 +838,104 @@ class TestCli:
     def test_file_xor_packet(self, capsys, argv):
         assert main(argv) == 2
         one_line_error(capsys, "give either FILE.toml or --packet HEX")
+
+
+# --- the bits, proved (PKT-01 to PKT-12) ----------------------------------------------------------------------------
+
+_P69, _P44 = platform_packets.packet69_bits, platform_packets.packet44_bits
+# property -> (function, text in it, faulty replacement)
+CODEC_MUTANTS = {
+    # Q_DIR and Q_SCALE written in each other's place
+    "packet69_codec.header_read_as_written": (_P69, "f.q_dir, length, f.q_scale", "f.q_scale, length, f.q_dir"),
+    # an element slot after the last sent: the packet's tail is not padding
+    "packet69_codec.length_as_sent": (_P69, "o.const(k) <= f.n_iter", "o.const(k) <= f.n_iter + o.const(1)"),
+    # the last element not sent
+    "packet69_codec.distances_read_as_written": (_P69, "o.const(k) <= f.n_iter", "o.const(k) < f.n_iter"),
+    # the first element's length, height and side dropped with Q_TRACKINIT 0
+    "packet69_codec.lengths_read_as_written": (_P69, "*_slot(o, f, 0, listed)[1:]", "*_slot(o, f, 0, init)[1:]"),
+    "packet69_codec.heights_read_as_written": (_P69, "*_slot(o, f, 0, listed)[1:]", "*_slot(o, f, 0, init)[1:]"),
+    # the side written from the height's column
+    "packet69_codec.sides_read_as_written": (
+        platform_packets._slot,
+        "f.m_platform, f.q_platform)",
+        "f.m_platform, f.m_platform)",
+    ),
+    # NID_XUSER and NID_XDATA swapped
+    "packet44_codec.header_read_as_written": (
+        _P44,
+        "o.const(NID_XUSER_PLATFORMS),\n        o.const(NID_XDATA_PLATFORMS),",
+        "o.const(NID_XDATA_PLATFORMS),\n        o.const(NID_XUSER_PLATFORMS),",
+    ),
+    # L_PACKET without the header's user ids
+    "packet44_codec.length_as_sent": (_P44, "o.const(P44_BITS) + o.const", "o.const(P44_BITS - 17) + o.const"),
+    # an element sent only from the second on
+    "packet44_codec.distances_read_as_written": (_P44, "o.const(k) < f.n_iter", "o.const(k) < f.n_iter - o.const(1)"),
+    # the length written from the distance's column
+    "packet44_codec.lengths_read_as_written": (
+        platform_packets._slot,
+        "(f.d_trackcond, f.l_trackcond,",
+        "(f.d_trackcond, f.d_trackcond,",
+    ),
+    # the height written from the side's column
+    "packet44_codec.heights_read_as_written": (
+        platform_packets._slot,
+        "f.l_trackcond, f.m_platform,",
+        "f.l_trackcond, f.q_platform,",
+    ),
+    "packet44_codec.sides_read_as_written": (
+        platform_packets._slot,
+        "f.m_platform, f.q_platform)",
+        "f.m_platform, f.m_platform)",
+    ),
+}
+CODEC_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith(("packet69_codec.", "packet44_codec."))]
+
+
+def test_every_codec_property_has_a_mutant():
+    assert set(CODEC_MUTANTS) == {p.name for p in CODEC_PROPERTIES}
+
+
+@pytest.mark.parametrize("prop", CODEC_PROPERTIES, ids=lambda p: p.name)
+def test_codec_proved_by_k_induction(prop, proof_suite_run):
+    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
+    assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
+
+
+@pytest.mark.parametrize("name", sorted(CODEC_MUTANTS))
+def test_codec_mutant_falsified_and_counterexample_replays(name):
+    run = falsify(PROPERTIES[name], *CODEC_MUTANTS[name], max_k=1)
+    assert run.killed, run
+
+
+def _capacity(layout) -> int:
+    return sum(field.width for field in layout)
+
+
+@settings(max_examples=100)
+@given(packets)
+def test_the_bytes_are_the_codec_nodes_bits(packet):
+    """The bytes are the first L_PACKET bits of packet69_bits / packet44_bits, the rest of which are zeros, and the
+    decoder's fields are packet_from_bits of them: the functions PKT-01 to PKT-12 are about."""
+    data = encode_platform_packet(packet)
+    layout = P44_LAYOUT if isinstance(packet, Packet44Platforms) else P69_LAYOUT
+    capacity, length = _capacity(layout), expected_bits(packet)
+    bits = BitString(int.from_bytes(data, "big") << (capacity - 8 * len(data)), capacity)
+    read = [int(v) for v in platform_packets.packet_from_bits(EXACT, layout, bits)]
+    if isinstance(packet, Packet44Platforms):
+        fields = platform_packets.Packet44Fields(
+            *map(Fraction, (packet.q_dir, packet.q_scale, len(packet.elements))),
+            *platform_packets._slots(packet.elements, 31),
+        )
+        written = _P44(EXACT, fields)
+    else:
+        init = packet.q_trackinit
+        fields = platform_packets.Packet69Fields(
+            *map(
+                Fraction,
+                (packet.q_dir, packet.q_scale, init, packet.d_trackinit or 0, max(len(packet.elements) - 1, 0)),
+            ),
+            *platform_packets._slots(packet.elements, 32),
+        )
+        written = _P69(EXACT, fields)
+    assert written == bits and written.value >> (capacity - length) << (capacity - length) == written.value
+    assert read[2] == length
