@@ -36,7 +36,7 @@ from atcs.model.prepared_curves import (
 )
 from atcs.model.psl import MRSP_UPDATE, PROFILE_SPLICE, PSL
 from atcs.model.resources import RESOURCES
-from atcs.model.separation import TWO_TRAINS
+from atcs.model.separation import REPORT_CHANNEL, TWO_TRAINS
 from atcs.model.supervision import SUPERVISION
 from atcs.model.t2t_message import T2T_CODEC, T2T_REPORT
 
@@ -86,6 +86,7 @@ NODES: dict[str, Node] = {
         T2T_CODEC,
         PACKET69_CODEC,
         PACKET44_CODEC,
+        REPORT_CHANNEL,
     )
 }
 

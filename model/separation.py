@@ -15,6 +15,7 @@ relative-braking mode).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Generic
 
 from atcs.model.authority import (
     AuthorityInputs,
@@ -24,10 +25,11 @@ from atcs.model.authority import (
 )
 from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle, eoa_target
 from atcs.model.curves import DESIGN_CASE_SIZES, MIN_SPAN
-from atcs.model.node import Node
+from atcs.model.node import Node, Stateless
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import PlantParams, PlantState, plant_admits, plant_init, plant_next
 from atcs.model.supervision import SupervisionOutputs, SupervisionState, supervision_init
+from atcs.model.t2t_message import ReportParams, SenderState, t2t_report_step
 from atcs.model.train_data import NationalData, TrainData
 
 PROOF_RESOURCES = 2
@@ -187,3 +189,98 @@ TWO_TRAINS = Node(
     },
 )
 """Follower ATP and authority + follower plant + leader + T2T channel, for proofs."""
+
+
+# --- the leader's reports on their way: what TWO_TRAINS assumes of a delivered report ------------------------------
+
+
+@dataclass(frozen=True)
+class ChannelParams(Generic[N, B]):
+    leader_length_m: N
+    leader_max_deceleration_mps2: N
+    cycle_s: N
+
+
+@dataclass(frozen=True)
+class ChannelState(Generic[N, B]):
+    """The leader's true state, as in :class:`TwoTrainState`, and one report on its way: the rear and speed of a
+    report the leader sent at an earlier cycle, unchanged since (``on_way`` once there is one)."""
+
+    leader_rear_m: N
+    leader_speed_mps: N
+    leader_stop_m: N
+    on_way: B
+    on_way_rear_m: N
+    on_way_speed_mps: N
+
+
+@dataclass(frozen=True)
+class ChannelInputs(Generic[N, B]):
+    leader_distance_m: N
+    leader_next_speed_mps: N
+    front_min_m: N
+    """The leader's position function this cycle: its min front, speed estimate and the estimate's accuracy."""
+    speed_est_mps: N
+    speed_accuracy_mps: N
+    clock_s: N
+    sent_on: B
+    """The channel carries this cycle's report on, in place of the one on its way (else the new one is lost)."""
+
+
+@dataclass(frozen=True)
+class ChannelOutputs(Generic[N, B]):
+    """The report on its way, as the follower would receive it intact this cycle."""
+
+    delivered: B
+    delivered_rear_m: N
+    delivered_speed_mps: N
+
+
+def report_channel_step(o: Ops, p: ChannelParams, s: ChannelState, i: ChannelInputs):
+    """The leader sends a report of this cycle's position (:func:`~atcs.model.t2t_message.t2t_report_step`, what
+    its onboard unit puts in the bytes) and moves; the channel delivers the report on its way, any number of cycles
+    later, again and again, or never. One report on its way stands for each of many: a report delayed, repeated or
+    overtaken is one that stayed on its way while others were sent."""
+    sender = SenderState(
+        true_front_m=s.leader_rear_m + p.leader_length_m,
+        true_speed_mps=s.leader_speed_mps,
+        front_min_m=i.front_min_m,
+        speed_est_mps=i.speed_est_mps,
+        speed_accuracy_mps=i.speed_accuracy_mps,
+        clock_s=i.clock_s,
+    )
+    _, sent = t2t_report_step(o, ReportParams(p.leader_length_m), Stateless(), sender)
+    leader_rear = s.leader_rear_m + i.leader_distance_m
+    state = ChannelState(
+        leader_rear_m=leader_rear,
+        leader_speed_mps=i.leader_next_speed_mps,
+        leader_stop_m=earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps),
+        on_way=o.or_(s.on_way, i.sent_on),
+        on_way_rear_m=o.ite(i.sent_on, sent.report_rear_m, s.on_way_rear_m),
+        on_way_speed_mps=o.ite(i.sent_on, sent.report_speed_mps, s.on_way_speed_mps),
+    )
+    return state, ChannelOutputs(s.on_way, s.on_way_rear_m, s.on_way_speed_mps)
+
+
+def report_channel_init(o: Ops, p: ChannelParams, s: ChannelState):
+    """No report on its way yet; the leader's earliest stopping point its physics' (as in :func:`two_train_init`)."""
+    return o.and_(
+        o.not_(s.on_way),
+        s.leader_speed_mps >= o.const(0),
+        o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)),
+    )
+
+
+REPORT_CHANNEL = Node(
+    name="report_channel",
+    params=ChannelParams,
+    state=ChannelState,
+    inputs=ChannelInputs,
+    outputs=ChannelOutputs,
+    init=report_channel_init,
+    step=report_channel_step,
+    seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
+)
+"""The leader, its reports as its onboard unit makes them, and the channel to the follower, every value symbolic:
+what :data:`TWO_TRAINS` assumes of an intact report (REPORT_REAR, REPORT_STOP) proved of the reports the leader
+sends."""

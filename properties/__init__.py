@@ -25,6 +25,7 @@ from atcs.properties import (
     packet44_codec,
     packet69_codec,
     position,
+    report_channel,
     resources,
     separation,
     stopping_point,
@@ -76,6 +77,7 @@ PROPERTIES: dict[str, Property] = _register(
     t2t_codec.PROPERTIES,
     packet69_codec.PROPERTIES,
     packet44_codec.PROPERTIES,
+    report_channel.PROPERTIES,
 )
 
 

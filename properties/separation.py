@@ -77,12 +77,25 @@ LEADER = Assumption(
     lambda o, p, s, i: o.and_(i.leader_distance_m >= o.const(0), i.leader_next_speed_mps >= o.const(0)),
 )
 
+
+def report_behind(o, rear_m, leader_rear_m):
+    """A report's min safe rear is at most the leader's current rear."""
+    return rear_m <= leader_rear_m
+
+
+def report_stop_behind(o, p, rear_m, speed_mps, leader_stop_m):
+    """A report's min speed is >= 0 and the earliest stopping point it gives at most the leader's current one."""
+    return o.and_(speed_mps >= o.const(0), earliest_stop_m(o, p, rear_m, speed_mps) <= leader_stop_m)
+
+
 REPORT_REAR = Assumption(
     "report_rear",
     "an intact report describes a past state of the leader: its min safe rear is at most the leader's current rear "
     "(reports may arrive after any delay, out of order, repeated, or not at all; one whose safety code fails may "
-    "say anything)",
-    lambda o, p, s, i: o.implies(o.and_(i.report_delivered, i.report_intact), i.report_rear_m <= s.leader_rear_m),
+    "say anything); proved of the reports the leader sends, SEP-07",
+    lambda o, p, s, i: o.implies(
+        o.and_(i.report_delivered, i.report_intact), report_behind(o, i.report_rear_m, s.leader_rear_m)
+    ),
 )
 
 
@@ -116,13 +129,10 @@ LEADER_BRAKING = Assumption(
 REPORT_STOP = Assumption(
     "report_stop",
     "an intact report's min speed is >= 0 and the earliest stopping point it gives is at most the leader's current "
-    "one (true of a past state: that point never moves back, SEP-04)",
+    "one (true of a past state: that point never moves back, SEP-04); proved of the reports the leader sends, SEP-08",
     lambda o, p, s, i: o.implies(
         o.and_(i.report_delivered, i.report_intact),
-        o.and_(
-            i.report_speed_mps >= o.const(0),
-            earliest_stop_m(o, p, i.report_rear_m, i.report_speed_mps) <= s.leader_stop_m,
-        ),
+        report_stop_behind(o, p, i.report_rear_m, i.report_speed_mps, s.leader_stop_m),
     ),
 )
 
@@ -370,4 +380,15 @@ PROPERTIES = tuple(
     p for name, fixed in PRESETS.items() for mode in ("bw", "rbd") for p in separation_properties(name, fixed, mode)
 )
 
-__all__ = ["BRICK_WALL", "FOLLOWER", "MARGIN", "PROPERTIES", "RELATIVE", "separation_properties"]
+__all__ = [
+    "BRICK_WALL",
+    "FOLLOWER",
+    "LEADER",
+    "LEADER_BRAKING",
+    "MARGIN",
+    "PROPERTIES",
+    "RELATIVE",
+    "report_behind",
+    "report_stop_behind",
+    "separation_properties",
+]

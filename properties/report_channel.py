@@ -1,0 +1,63 @@
+"""The leader's reports on their way to the follower (seed 001 §3.2, Fig. 5 iii and Fig. 6; EN 50159): every
+report the follower can receive intact describes a past state of the leader, which is what the two-train proofs
+assume of it (REPORT_REAR, REPORT_STOP in :mod:`atcs.properties.separation`).
+
+Over :data:`~atcs.model.separation.REPORT_CHANNEL`, every value symbolic: the leader moving forward and never
+braking harder than its highest deceleration (the two-train proofs' LEADER and LEADER_BRAKING), its position
+function true (the true front within its interval, the true speed within the accuracy of the estimate: what POS-22
+and the speed bounds give), each cycle's report made by the onboard unit's own
+:func:`~atcs.model.t2t_message.t2t_report_step`, and a channel that delivers the report on its way any number of
+cycles later, repeatedly, or never. The predicates are the assumptions' own (``report_behind``,
+``report_stop_behind``), applied to the report the channel delivers rather than to an input.
+"""
+
+from __future__ import annotations
+
+from atcs.model.separation import REPORT_CHANNEL
+from atcs.properties.property import Assumption, Property
+from atcs.properties.separation import LEADER, LEADER_BRAKING, report_behind, report_stop_behind
+
+LEADER_POSITION = Assumption(
+    "leader_position",
+    "the leader's true front is at or ahead of its min front and its true speed within the accuracy of its "
+    "estimate, every cycle; its length >= 0",
+    lambda o, p, s, i: o.and_(
+        i.front_min_m <= s.leader_rear_m + p.leader_length_m,
+        i.speed_est_mps - i.speed_accuracy_mps <= s.leader_speed_mps,
+        p.leader_length_m >= o.const(0),
+    ),
+)
+
+_ASSUMED = (LEADER, LEADER_BRAKING, LEADER_POSITION)
+
+PROPERTIES = (
+    Property(
+        name="report_channel.delivered_rear_behind_leader",
+        requirement="SEP-07",
+        seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
+        text="Every report the channel delivers, made by the leader's onboard unit at an earlier cycle and delivered "
+        "after any delay, repeatedly or out of order, gives a min safe rear at most the leader's current rear (the "
+        "two-train proofs' REPORT_REAR).",
+        node=REPORT_CHANNEL,
+        holds=lambda o, p, s, i, out, nxt: o.implies(
+            out.delivered, report_behind(o, out.delivered_rear_m, s.leader_rear_m)
+        ),
+        assumptions=(LEADER, LEADER_POSITION),
+    ),
+    Property(
+        name="report_channel.delivered_stop_behind_leader",
+        requirement="SEP-08",
+        seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
+        text="Every report the channel delivers gives a min speed >= 0 and an earliest stopping point at most the "
+        "leader's current one (the two-train proofs' REPORT_STOP): the leader never brakes harder than its highest "
+        "deceleration, so that point never moves back after the report is sent.",
+        node=REPORT_CHANNEL,
+        holds=lambda o, p, s, i, out, nxt: o.implies(
+            out.delivered,
+            report_stop_behind(o, p, out.delivered_rear_m, out.delivered_speed_mps, s.leader_stop_m),
+        ),
+        assumptions=_ASSUMED,
+    ),
+)
+
+__all__ = ["LEADER_POSITION", "PROPERTIES"]
