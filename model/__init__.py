@@ -24,6 +24,7 @@ from atcs.model.mrsp import MRSP, PROFILE_LOOKUP
 from atcs.model.node import Node
 from atcs.model.plant import PLANT, PLANT_PAIR
 from atcs.model.platform_packets import PACKET44_CODEC, PACKET69_CODEC
+from atcs.model.platforms import PACKET_PLATFORMS
 from atcs.model.position import POSITION, TACHO_CHECK
 from atcs.model.position_loop import POSITION_LOOP
 from atcs.model.prepared_curves import (
@@ -87,6 +88,7 @@ NODES: dict[str, Node] = {
         PACKET69_CODEC,
         PACKET44_CODEC,
         REPORT_CHANNEL,
+        PACKET_PLATFORMS,
     )
 }
 

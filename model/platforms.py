@@ -20,18 +20,24 @@ that sent it, or from a scenario's table. Both forms are read by
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
+from typing import Generic
 
 from atcs.model.bits import PacketError, hex_bytes
 from atcs.model.data_files import TableReader, read_toml
 from atcs.model.errors import AtcsInputError
+from atcs.model.node import Stateless, stateless_node
+from atcs.model.ops import B, N, Ops
+from atcs.model.ops.exact import EXACT
 from atcs.model.platform_packets import (
     M_PLATFORM_MM,
     MAX_DISTANCE,
+    MAX_ITER,
     Q_PLATFORM,
     Q_SCALE_M,
     Packet44Platforms,
@@ -89,26 +95,102 @@ class Platform:
         return self.side in ("right", "both")
 
 
+@dataclass(frozen=True)
+class PacketPlatforms(Generic[N, B]):
+    """A packet's platform elements as the door node's table reads them: the codes, decoded (seed 004 Table 1)."""
+
+    reference_m: N
+    """Where the balise group that sent the packet was read."""
+    q_dir: N
+    reverse: B
+    """The train runs against the balise group's nominal direction."""
+    q_scale: N
+    elements: N
+    """How many elements the packet holds (the slots after them are not read)."""
+    d_trackcond: tuple[N, ...]
+    l_trackcond: tuple[N, ...]
+    q_platform: tuple[N, ...]
+
+
+@dataclass(frozen=True)
+class PlatformTable(Generic[N, B]):
+    """The door node's platform table (:func:`platform_inputs`' fields)."""
+
+    platform_start_m: tuple[N, ...]
+    platform_end_m: tuple[N, ...]
+    platform_left: tuple[B, ...]
+    platform_right: tuple[B, ...]
+
+
+def packet_platform_table(o: Ops, i: PacketPlatforms) -> PlatformTable:
+    """The platforms a packet describes, slot by slot: each element's start its distance (in Q_SCALE units) after
+    the previous one's (the first's after the reference), its end its length after its start, its sides its
+    Q_PLATFORM's; a slot after the packet's elements, or every slot of a packet for the other direction (Q_DIR),
+    on no side."""
+    scale_m = o.ite(
+        o.eq(i.q_scale, o.const(0)),
+        o.const(Q_SCALE_M[0]),
+        o.ite(o.eq(i.q_scale, o.const(1)), o.const(Q_SCALE_M[1]), o.const(Q_SCALE_M[2])),
+    )
+    applies = o.or_(o.eq(i.q_dir, o.const(2)), o.eq(i.q_dir, o.ite(i.reverse, o.const(0), o.const(1))))
+    start, starts, ends, left, right = i.reference_m, [], [], [], []
+    for k, (d, length, side) in enumerate(zip(i.d_trackcond, i.l_trackcond, i.q_platform, strict=True)):
+        start = start + d * scale_m
+        present = o.and_(applies, o.const(k) < i.elements)
+        starts.append(start)
+        ends.append(start + length * scale_m)
+        left.append(o.and_(present, o.or_(o.eq(side, o.const(0)), o.eq(side, o.const(2)))))
+        right.append(o.and_(present, o.or_(o.eq(side, o.const(1)), o.eq(side, o.const(2)))))
+    return PlatformTable(tuple(starts), tuple(ends), tuple(left), tuple(right))
+
+
+def packet_platforms_step(o: Ops, p: Stateless, s: Stateless, i: PacketPlatforms):
+    return s, packet_platform_table(o, i)
+
+
+PACKET_PLATFORMS = stateless_node(
+    name="packet_platforms",
+    params=Stateless,
+    inputs=PacketPlatforms,
+    outputs=PlatformTable,
+    step=packet_platforms_step,
+    seed="004 §2.2-2.3 (Tables 1-2)",
+    sizes={
+        name: MAX_ITER + 1
+        for name in ("d_trackcond", "l_trackcond", "q_platform", *(f.name for f in dataclasses.fields(PlatformTable)))
+    },
+)
+"""The door node's platform table from a packet's codes, every code symbolic (32 elements, packet 69's most)."""
+
+
 def platforms_from_packet(packet: PlatformPacket, reference_m, *, direction: str = "nominal") -> tuple[Platform, ...]:
     """The platforms a packet read at ``reference_m`` describes for a train running ``direction`` relative to the
-    balise group (none if the packet is for the other direction, or is packet 69's empty profile)."""
+    balise group (none if the packet is for the other direction, or is packet 69's empty profile): the table of
+    :func:`packet_platform_table`."""
     if direction not in ("nominal", "reverse"):
         raise ValueError(f"direction must be 'nominal' or 'reverse', got {direction!r}")
-    if packet.q_dir not in ({"nominal": 1, "reverse": 0}[direction], 2):
-        return ()
-    scale = Q_SCALE_M[packet.q_scale]
-    start, platforms = Fraction(reference_m), []
-    for element in packet.elements:
-        start += element.d_trackcond * scale
-        platforms.append(
-            Platform(
-                start,
-                start + element.l_trackcond * scale,
-                Q_PLATFORM[element.q_platform],
-                M_PLATFORM_MM[element.m_platform],
-            )
-        )
-    return tuple(platforms)
+    elements = packet.elements
+    table = packet_platform_table(
+        EXACT,
+        PacketPlatforms(
+            reference_m=Fraction(reference_m),
+            q_dir=Fraction(packet.q_dir),
+            reverse=direction == "reverse",
+            q_scale=Fraction(packet.q_scale),
+            elements=Fraction(len(elements)),
+            d_trackcond=tuple(Fraction(e.d_trackcond) for e in elements),
+            l_trackcond=tuple(Fraction(e.l_trackcond) for e in elements),
+            q_platform=tuple(Fraction(e.q_platform) for e in elements),
+        ),
+    )
+    rows = zip(
+        table.platform_start_m, table.platform_end_m, table.platform_left, table.platform_right, elements, strict=True
+    )
+    return tuple(
+        Platform(start, end, Q_PLATFORM[e.q_platform], M_PLATFORM_MM[e.m_platform])
+        for start, end, left, right, e in rows
+        if left or right
+    )
 
 
 def packet_for_platforms(

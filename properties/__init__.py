@@ -24,6 +24,7 @@ from atcs.properties import (
     mrsp,
     packet44_codec,
     packet69_codec,
+    packet_platforms,
     position,
     report_channel,
     resources,
@@ -78,6 +79,7 @@ PROPERTIES: dict[str, Property] = _register(
     packet69_codec.PROPERTIES,
     packet44_codec.PROPERTIES,
     report_channel.PROPERTIES,
+    packet_platforms.PROPERTIES,
 )
 
 

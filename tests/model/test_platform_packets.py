@@ -15,6 +15,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from atcs.model import platform_packets
+from atcs.model import platforms as platform_table_module
 from atcs.model.bits import PacketError, hex_bytes
 from atcs.model.ops import BitString
 from atcs.model.ops.exact import EXACT
@@ -939,3 +940,60 @@ def test_the_bytes_are_the_codec_nodes_bits(packet):
         written = _P69(EXACT, fields)
     assert written == bits and written.value >> (capacity - length) << (capacity - length) == written.value
     assert read[2] == length
+
+
+# --- the platforms a packet describes, proved (PLT-01 to PLT-03) ----------------------------------------------------
+
+_TABLE = platform_table_module.packet_platform_table
+PLATFORM_MUTANTS = {
+    # every distance counted from the balise group, not from the previous platform's start
+    "packet_platforms.in_order_from_reference": (
+        _TABLE,
+        "start = start + d * scale_m",
+        "start = i.reference_m + d * scale_m",
+    ),
+    # the left side read from the right side's code
+    "packet_platforms.sides_as_coded": (
+        _TABLE,
+        "left.append(o.and_(present, o.or_(o.eq(side, o.const(0))",
+        "left.append(o.and_(present, o.or_(o.eq(side, o.const(1))",
+    ),
+    # the train's direction ignored: a packet for the nominal direction read by a train running reverse
+    "packet_platforms.other_direction_empty": (
+        _TABLE,
+        "o.eq(i.q_dir, o.ite(i.reverse, o.const(0), o.const(1)))",
+        "o.eq(i.q_dir, o.const(1))",
+    ),
+}
+PLATFORM_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("packet_platforms.")]
+
+
+def test_every_platform_table_property_has_a_mutant():
+    assert set(PLATFORM_MUTANTS) == {p.name for p in PLATFORM_PROPERTIES}
+
+
+@pytest.mark.parametrize("prop", PLATFORM_PROPERTIES, ids=lambda p: p.name)
+def test_platform_table_proved_by_k_induction(prop, proof_suite_run):
+    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
+    assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
+
+
+@pytest.mark.parametrize("name", sorted(PLATFORM_MUTANTS))
+def test_platform_table_mutant_falsified_and_counterexample_replays(name):
+    run = falsify(PROPERTIES[name], *PLATFORM_MUTANTS[name], max_k=1)
+    assert run.killed, run
+
+
+@settings(max_examples=100)
+@given(packets, st.integers(0, 100_000), st.sampled_from(["nominal", "reverse"]))
+def test_platforms_from_packet_are_the_table_nodes(packet, reference_m, direction):
+    """platforms_from_packet keeps exactly the slots the proved table marks on a side, at its starts and ends, and
+    independently of it each platform starts where the distances add up to."""
+    platforms = platforms_from_packet(packet, reference_m, direction=direction)
+    applies = packet.q_dir == 2 or packet.q_dir == (0 if direction == "reverse" else 1)
+    scale = {0: Fraction(1, 10), 1: Fraction(1), 2: Fraction(10)}[packet.q_scale]
+    expected, start = [], Fraction(reference_m)
+    for e in packet.elements:
+        start += e.d_trackcond * scale
+        expected.append((start, start + e.l_trackcond * scale, ("left", "right", "both")[e.q_platform]))
+    assert [(p.start_m, p.end_m, p.side) for p in platforms] == (expected if applies else [])
