@@ -25,11 +25,11 @@ from atcs.model.authority import (
 )
 from atcs.model.closed_loop import ClosedLoopInputs, atp_cycle, eoa_target
 from atcs.model.curves import DESIGN_CASE_SIZES, MIN_SPAN
-from atcs.model.node import Node, Stateless
+from atcs.model.node import Node
 from atcs.model.ops import B, N, Ops
 from atcs.model.plant import PlantParams, PlantState, plant_admits, plant_init, plant_next
 from atcs.model.supervision import SupervisionOutputs, SupervisionState, supervision_init
-from atcs.model.t2t_message import ReportParams, SenderState, t2t_report_step
+from atcs.model.t2t_message import sent_report
 from atcs.model.train_data import NationalData, TrainData
 
 PROOF_RESOURCES = 2
@@ -237,19 +237,11 @@ class ChannelOutputs(Generic[N, B]):
 
 
 def report_channel_step(o: Ops, p: ChannelParams, s: ChannelState, i: ChannelInputs):
-    """The leader sends a report of this cycle's position (:func:`~atcs.model.t2t_message.t2t_report_step`, what
-    its onboard unit puts in the bytes) and moves; the channel delivers the report on its way, any number of cycles
+    """The leader sends a report of this cycle's position (:func:`~atcs.model.t2t_message.sent_report`, what its
+    onboard unit puts in the bytes) and moves; the channel delivers the report on its way, any number of cycles
     later, again and again, or never. One report on its way stands for each of many: a report delayed, repeated or
     overtaken is one that stayed on its way while others were sent."""
-    sender = SenderState(
-        true_front_m=s.leader_rear_m + p.leader_length_m,
-        true_speed_mps=s.leader_speed_mps,
-        front_min_m=i.front_min_m,
-        speed_est_mps=i.speed_est_mps,
-        speed_accuracy_mps=i.speed_accuracy_mps,
-        clock_s=i.clock_s,
-    )
-    _, sent = t2t_report_step(o, ReportParams(p.leader_length_m), Stateless(), sender)
+    sent = sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps, i.speed_accuracy_mps, i.clock_s)
     leader_rear = s.leader_rear_m + i.leader_distance_m
     state = ChannelState(
         leader_rear_m=leader_rear,
@@ -264,11 +256,7 @@ def report_channel_step(o: Ops, p: ChannelParams, s: ChannelState, i: ChannelInp
 
 def report_channel_init(o: Ops, p: ChannelParams, s: ChannelState):
     """No report on its way yet; the leader's earliest stopping point its physics' (as in :func:`two_train_init`)."""
-    return o.and_(
-        o.not_(s.on_way),
-        s.leader_speed_mps >= o.const(0),
-        o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)),
-    )
+    return o.and_(o.not_(s.on_way), o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)))
 
 
 REPORT_CHANNEL = Node(

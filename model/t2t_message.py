@@ -48,6 +48,7 @@ __all__ = [
     "report_fields",
     "report_from_bits",
     "report_quantities",
+    "sent_report",
 ]
 
 _FIELDS = (("NID_ENGINE", 24), ("N_SEQ", 32), ("T_SENT", 32), ("D_REAR", 32), ("V_MIN", 16))
@@ -186,14 +187,17 @@ class ReportContent(Generic[N, B]):
     report_sent_s: N
 
 
-def t2t_report_step(o: Ops, p: ReportParams, s: Stateless, i: SenderState):
+def sent_report(o: Ops, train_length_m, front_min_m, speed_est_mps, speed_accuracy_mps, clock_s) -> ReportContent:
+    """What a train's report says, from its position function's min front, speed estimate and accuracy and its
+    clock: its min safe rear and min speed, rounded down to the units the report carries, and the time stamp."""
     rear, speed, sent = report_quantities(
-        o,
-        i.front_min_m - p.train_length_m,
-        min_speed_mps(o, i.speed_est_mps, i.speed_accuracy_mps),
-        i.clock_s,
+        o, front_min_m - train_length_m, min_speed_mps(o, speed_est_mps, speed_accuracy_mps), clock_s
     )
-    return s, ReportContent(rear, speed, sent)
+    return ReportContent(rear, speed, sent)
+
+
+def t2t_report_step(o: Ops, p: ReportParams, s: Stateless, i: SenderState):
+    return s, sent_report(o, p.train_length_m, i.front_min_m, i.speed_est_mps, i.speed_accuracy_mps, i.clock_s)
 
 
 @dataclass(frozen=True)

@@ -8,6 +8,7 @@ are spare is the byte codec's check before the table is made (a spare Q_PLATFORM
 
 from __future__ import annotations
 
+from atcs.model.platform_packets import Q_SCALE_M
 from atcs.model.platforms import PACKET_PLATFORMS
 from atcs.properties.property import Assumption, Property
 
@@ -59,6 +60,26 @@ def _sides(o, p, s, i, out, nxt):
     )
 
 
+def _positions(o, p, s, i, out, nxt):
+    unit_m = {code: o.const(metres) for code, metres in Q_SCALE_M.items()}
+    claims = []
+    for code, metres in unit_m.items():
+        distance_m = o.const(0)
+        for k in range(len(i.d_trackcond)):
+            distance_m = distance_m + i.d_trackcond[k] * metres
+            at = o.and_(o.eq(i.q_scale, o.const(code)), _present(o, out, k))
+            claims.append(
+                o.implies(
+                    at,
+                    o.and_(
+                        o.eq(out.platform_start_m[k], i.reference_m + distance_m),
+                        o.eq(out.platform_end_m[k], i.reference_m + distance_m + i.l_trackcond[k] * metres),
+                    ),
+                )
+            )
+    return o.and_(*claims)
+
+
 def _other_direction(o, p, s, i, out, nxt):
     for_other = o.eq(i.q_dir, o.ite(i.reverse, o.const(1), o.const(0)))
     return o.implies(for_other, o.not_(o.or_(*(_present(o, out, k) for k in range(len(out.platform_left))))))
@@ -94,8 +115,15 @@ PROPERTIES = (
         _sides,
     ),
     _property(
-        "other_direction_empty",
+        "positions_as_coded",
         "PLT-03",
+        "Each platform a packet describes starts its elements' D_TRACKCOND, added up to its own, after the balise "
+        "group and ends its L_TRACKCOND after its start, in the unit Q_SCALE gives (00b 10 cm, 01b 1 m, 10b 10 m).",
+        _positions,
+    ),
+    _property(
+        "other_direction_empty",
+        "PLT-04",
         "A packet whose Q_DIR is the other direction's (reverse for a train running nominal, nominal for one running "
         "reverse) describes no platform at all.",
         _other_direction,

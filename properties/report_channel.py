@@ -14,6 +14,7 @@ cycles later, repeatedly, or never. The predicates are the assumptions' own (``r
 from __future__ import annotations
 
 from atcs.model.separation import REPORT_CHANNEL
+from atcs.model.t2t_message import report_quantities
 from atcs.properties.property import Assumption, Property
 from atcs.properties.separation import LEADER, LEADER_BRAKING, report_behind, report_stop_behind
 
@@ -29,6 +30,27 @@ LEADER_POSITION = Assumption(
 )
 
 _ASSUMED = (LEADER, LEADER_BRAKING, LEADER_POSITION)
+
+
+def _on_its_way(o, p, s, i, out, nxt):
+    """A report carried on is the one the leader's position function gives (its min safe rear and min speed,
+    rounded down: T2T-01, T2T-02) and is delivered from the next cycle; else the one on its way stays."""
+    rear, speed, _ = report_quantities(
+        o, i.front_min_m - p.leader_length_m, o.max(o.const(0), i.speed_est_mps - i.speed_accuracy_mps), i.clock_s
+    )
+    kept = o.and_(
+        o.eq(nxt.on_way, s.on_way),
+        o.eq(nxt.on_way_rear_m, s.on_way_rear_m),
+        o.eq(nxt.on_way_speed_mps, s.on_way_speed_mps),
+    )
+    carried = o.and_(nxt.on_way, o.eq(nxt.on_way_rear_m, rear), o.eq(nxt.on_way_speed_mps, speed))
+    delivered = o.and_(
+        o.eq(out.delivered, s.on_way),
+        o.eq(out.delivered_rear_m, s.on_way_rear_m),
+        o.eq(out.delivered_speed_mps, s.on_way_speed_mps),
+    )
+    return o.and_(delivered, o.implies(i.sent_on, carried), o.implies(o.not_(i.sent_on), kept))
+
 
 PROPERTIES = (
     Property(
@@ -57,6 +79,17 @@ PROPERTIES = (
             report_stop_behind(o, p, out.delivered_rear_m, out.delivered_speed_mps, s.leader_stop_m),
         ),
         assumptions=_ASSUMED,
+    ),
+    Property(
+        name="report_channel.sent_report_on_its_way",
+        requirement="SEP-09",
+        seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
+        text="A report the channel carries on is the leader's min safe rear (min front less its length) and min "
+        "speed (the estimate less its accuracy, at least 0), rounded down to the cm and cm/s, and is delivered from "
+        "the next cycle on until a later one replaces it; the channel delivers nothing else (SEP-07 and SEP-08 are "
+        "about reports that do arrive).",
+        node=REPORT_CHANNEL,
+        holds=_on_its_way,
     ),
 )
 

@@ -942,7 +942,7 @@ def test_the_bytes_are_the_codec_nodes_bits(packet):
     assert read[2] == length
 
 
-# --- the platforms a packet describes, proved (PLT-01 to PLT-03) ----------------------------------------------------
+# --- the platforms a packet describes, proved (PLT-01 to PLT-04) ----------------------------------------------------
 
 _TABLE = platform_table_module.packet_platform_table
 PLATFORM_MUTANTS = {
@@ -957,6 +957,12 @@ PLATFORM_MUTANTS = {
         _TABLE,
         "left.append(o.and_(present, o.or_(o.eq(side, o.const(0))",
         "left.append(o.and_(present, o.or_(o.eq(side, o.const(1))",
+    ),
+    # Q_SCALE 00b read as 1 m: every position ten times too far
+    "packet_platforms.positions_as_coded": (
+        _TABLE,
+        "o.eq(i.q_scale, o.const(0)),\n        o.const(Q_SCALE_M[0]),",
+        "o.eq(i.q_scale, o.const(0)),\n        o.const(Q_SCALE_M[1]),",
     ),
     # the train's direction ignored: a packet for the nominal direction read by a train running reverse
     "packet_platforms.other_direction_empty": (

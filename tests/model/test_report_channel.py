@@ -1,7 +1,7 @@
 """The leader's reports on their way (model/separation.py, REPORT_CHANNEL): what the two-train proofs assume of an
 intact report (REPORT_REAR, REPORT_STOP) is proved of every report the leader's onboard unit sends (SEP-07,
-SEP-08), each with a mutant falsified and its counterexample replayed; and the channel's step delivers exactly the
-report on its way."""
+SEP-08), carried as it is sent (SEP-09), each with a mutant falsified and its counterexample replayed; and the
+channel's step delivers exactly the report on its way."""
 
 from fractions import Fraction
 
@@ -29,8 +29,15 @@ MUTANTS = {
     # the speed estimate reported with its accuracy added: faster than the leader may be
     "report_channel.delivered_stop_behind_leader": (
         separation.report_channel_step,
-        "speed_est_mps=i.speed_est_mps,",
-        "speed_est_mps=i.speed_est_mps + o.const(2) * i.speed_accuracy_mps,",
+        "sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps, i.speed_accuracy_mps, i.clock_s)",
+        "sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps + i.speed_accuracy_mps, o.const(0), "
+        "i.clock_s)",
+    ),
+    # a channel that never delivers: SEP-07 and SEP-08 would hold of it vacuously
+    "report_channel.sent_report_on_its_way": (
+        separation.report_channel_step,
+        "on_way=o.or_(s.on_way, i.sent_on)",
+        "on_way=s.on_way",
     ),
 }
 
@@ -55,7 +62,7 @@ def test_the_properties_state_the_two_train_assumptions():
     """SEP-07 and SEP-08 apply the very predicates REPORT_REAR and REPORT_STOP apply to a delivered report."""
     assert "report_behind" in REPORT_REAR.holds.__code__.co_names
     assert "report_stop_behind" in REPORT_STOP.holds.__code__.co_names
-    for prop, predicate in zip(CHANNEL_PROPERTIES, ("report_behind", "report_stop_behind"), strict=True):
+    for prop, predicate in zip(CHANNEL_PROPERTIES[:2], ("report_behind", "report_stop_behind"), strict=True):
         assert predicate in prop.holds.__code__.co_names
     assert LEADER_POSITION.name == "leader_position"
 
