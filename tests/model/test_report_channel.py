@@ -23,8 +23,8 @@ MUTANTS = {
     # the leader's min front reported as its rear: ahead of its true rear by up to its length
     "report_channel.delivered_rear_behind_leader": (
         separation.report_channel_step,
-        "ReportParams(p.leader_length_m)",
-        "ReportParams(o.const(0))",
+        "sent_report(o, p.leader_length_m,",
+        "sent_report(o, o.const(0),",
     ),
     # the speed estimate reported with its accuracy added: faster than the leader may be
     "report_channel.delivered_stop_behind_leader": (
