@@ -314,7 +314,7 @@ PACKET69_CODEC = stateless_node(
     seed="004 §2.2 (Table 1); Subset-026-7 §7.4.2",
     sizes={**_SLOTS69, **{f"read_{name}": size for name, size in _SLOTS69.items()}},
 )
-"""Packet 69 written as bits and read back, every code symbolic (N_ITER too), the bits a z3 bit-vector."""
+"""Packet 69 written as bits and read back, every code symbolic (N_ITER too)."""
 
 PACKET44_CODEC = stateless_node(
     name="packet44_codec",
@@ -325,7 +325,7 @@ PACKET44_CODEC = stateless_node(
     seed="004 §2.3 (Table 2)",
     sizes={name: size - 1 for name, size in PACKET69_CODEC.sizes.items()},
 )
-"""User packet 44 written as bits and read back, every code symbolic (N_ITER too), the bits a z3 bit-vector."""
+"""User packet 44 written as bits and read back, every code symbolic (N_ITER too)."""
 
 
 # --- bytes: the codec's bits, their codes checked ---------------------------------------------------------

@@ -235,7 +235,7 @@ T2T_CODEC = stateless_node(
     step=t2t_codec_step,
     seed="001 §3.2 (Fig. 5 iii); EN 50159",
 )
-"""A report's fields written as bits and read back, every field symbolic, the bits a z3 bit-vector."""
+"""A report's fields written as bits and read back, every field symbolic."""
 
 
 T2T_REPORT = stateless_node(

@@ -1,7 +1,7 @@
 """Packet 69's bits (seed 004 §2.2, Table 1; Subset-026-7 §7.4.2): what the receiver reads is what the sender wrote,
 for every code of every field and every N_ITER up to the format's 31.
 
-Over :data:`~atcs.model.platform_packets.PACKET69_CODEC`, every code symbolic, the bits a z3 bit-vector: the fields
+Over :data:`~atcs.model.platform_packets.PACKET69_CODEC`, every code symbolic: the fields
 written by :func:`~atcs.model.platform_packets.packet69_bits`, filled to the format's 32 elements, and read back by
 :func:`~atcs.model.platform_packets.packet_from_bits`, the functions the byte codec runs. A packet is the first
 L_PACKET bits of that string and the rest are zeros, so the bytes sent are its prefix. Which codes are spare or

@@ -1,6 +1,6 @@
 """The T2T report's bits (seed 001 §3.2, Fig. 5 iii; EN 50159): what the receiver reads is what the sender wrote.
 
-Over :data:`~atcs.model.t2t_message.T2T_CODEC`, every field symbolic and the bits a z3 bit-vector: the fields
+Over :data:`~atcs.model.t2t_message.T2T_CODEC`, every field symbolic: the fields
 written by :func:`~atcs.model.t2t_message.report_bits` and read back by
 :func:`~atcs.model.t2t_message.report_from_bits`, the functions ``encode_report`` and ``decode_report`` run. The
 safety code around them (CRC-32) is tested, not proved (tests/model/test_t2t_message.py).

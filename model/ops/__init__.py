@@ -99,7 +99,8 @@ class Ops(Protocol[N, B]):
         """The ``(value, width)`` fields as one bit string, most significant first, as an ETCS packet or a T2T
         report carries them (Subset-026-7 §7.3): each field is ``floor(value) mod 2^width`` in ``width`` bits (the
         same total function in every backend; a codec keeps its values within their fields). Concrete backends give
-        a :class:`BitString`; the symbolic one a z3 bit-vector, so a proof reasons about fields as bits."""
+        a :class:`BitString`; the symbolic one the fields as whole numbers, each field read the sum of the packed bits
+        it covers (integer division and remainder by powers of two), so a proof reasons about the fields exactly."""
 
     def unpack_bits(self, bits: Any, widths: Sequence[int]) -> tuple[N, ...]:
         """The unsigned fields of ``bits`` (from :meth:`pack_bits`), most significant first; ``widths`` sum to its
