@@ -256,7 +256,11 @@ def report_channel_step(o: Ops, p: ChannelParams, s: ChannelState, i: ChannelInp
 
 def report_channel_init(o: Ops, p: ChannelParams, s: ChannelState):
     """No report on its way yet; the leader's earliest stopping point its physics' (as in :func:`two_train_init`)."""
-    return o.and_(o.not_(s.on_way), o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)))
+    return o.and_(
+        o.not_(s.on_way),
+        s.leader_speed_mps >= o.const(0),
+        o.eq(s.leader_stop_m, earliest_stop_m(o, p, s.leader_rear_m, s.leader_speed_mps)),
+    )
 
 
 REPORT_CHANNEL = Node(

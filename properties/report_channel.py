@@ -29,8 +29,6 @@ LEADER_POSITION = Assumption(
     ),
 )
 
-_ASSUMED = (LEADER, LEADER_BRAKING, LEADER_POSITION)
-
 
 def _on_its_way(o, p, s, i, out, nxt):
     """A report carried on is the one the leader's position function gives (its min safe rear and min speed,
@@ -52,44 +50,63 @@ def _on_its_way(o, p, s, i, out, nxt):
     return o.and_(delivered, o.implies(i.sent_on, carried), o.implies(o.not_(i.sent_on), kept))
 
 
-PROPERTIES = (
-    Property(
-        name="report_channel.delivered_rear_behind_leader",
-        requirement="SEP-07",
+def _property(name: str, requirement: str, text: str, holds, assumptions=(), lemmas=()) -> Property:
+    return Property(
+        name=f"report_channel.{name}",
+        requirement=requirement,
         seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
-        text="Every report the channel delivers, made by the leader's onboard unit at an earlier cycle and delivered "
+        text=text,
+        node=REPORT_CHANNEL,
+        holds=holds,
+        assumptions=assumptions,
+        lemmas=lemmas,
+    )
+
+
+PROPERTIES = (
+    _property(
+        "leader_stop_is_earliest",
+        "SEP-10",
+        "The leader's speed is >= 0 and its earliest stopping point is its true rear plus its stopping distance from "
+        "its true speed at its highest deceleration (as SEP-03 of the two-train node).",
+        lambda o, p, s, i, out, nxt: o.and_(
+            s.leader_speed_mps >= o.const(0),
+            o.eq(
+                o.const(2) * p.leader_max_deceleration_mps2 * (s.leader_stop_m - s.leader_rear_m),
+                s.leader_speed_mps * s.leader_speed_mps,
+            ),
+        ),
+        (LEADER, LEADER_BRAKING),
+    ),
+    _property(
+        "delivered_rear_behind_leader",
+        "SEP-07",
+        "Every report the channel delivers, made by the leader's onboard unit at an earlier cycle and delivered "
         "after any delay, repeatedly or out of order, gives a min safe rear at most the leader's current rear (the "
         "two-train proofs' REPORT_REAR).",
-        node=REPORT_CHANNEL,
-        holds=lambda o, p, s, i, out, nxt: o.implies(
-            out.delivered, report_behind(o, out.delivered_rear_m, s.leader_rear_m)
-        ),
-        assumptions=(LEADER, LEADER_POSITION),
+        lambda o, p, s, i, out, nxt: o.implies(out.delivered, report_behind(o, out.delivered_rear_m, s.leader_rear_m)),
+        (LEADER, LEADER_POSITION),
     ),
-    Property(
-        name="report_channel.delivered_stop_behind_leader",
-        requirement="SEP-08",
-        seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
-        text="Every report the channel delivers gives a min speed >= 0 and an earliest stopping point at most the "
+    _property(
+        "delivered_stop_behind_leader",
+        "SEP-08",
+        "Every report the channel delivers gives a min speed >= 0 and an earliest stopping point at most the "
         "leader's current one (the two-train proofs' REPORT_STOP): the leader never brakes harder than its highest "
         "deceleration, so that point never moves back after the report is sent.",
-        node=REPORT_CHANNEL,
-        holds=lambda o, p, s, i, out, nxt: o.implies(
-            out.delivered,
-            report_stop_behind(o, p, out.delivered_rear_m, out.delivered_speed_mps, s.leader_stop_m),
+        lambda o, p, s, i, out, nxt: o.implies(
+            out.delivered, report_stop_behind(o, p, out.delivered_rear_m, out.delivered_speed_mps, s.leader_stop_m)
         ),
-        assumptions=_ASSUMED,
+        (LEADER, LEADER_BRAKING, LEADER_POSITION),
+        ("report_channel.leader_stop_is_earliest",),
     ),
-    Property(
-        name="report_channel.sent_report_on_its_way",
-        requirement="SEP-09",
-        seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
-        text="A report the channel carries on is the leader's min safe rear (min front less its length) and min "
+    _property(
+        "sent_report_on_its_way",
+        "SEP-09",
+        "A report the channel carries on is the leader's min safe rear (min front less its length) and min "
         "speed (the estimate less its accuracy, at least 0), rounded down to the cm and cm/s, and is delivered from "
         "the next cycle on until a later one replaces it; the channel delivers nothing else (SEP-07 and SEP-08 are "
         "about reports that do arrive).",
-        node=REPORT_CHANNEL,
-        holds=_on_its_way,
+        _on_its_way,
     ),
 )
 

@@ -889,23 +889,6 @@ CODEC_MUTANTS = {
         "f.m_platform, f.m_platform)",
     ),
 }
-CODEC_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith(("packet69_codec.", "packet44_codec."))]
-
-
-def test_every_codec_property_has_a_mutant():
-    assert set(CODEC_MUTANTS) == {p.name for p in CODEC_PROPERTIES}
-
-
-@pytest.mark.parametrize("prop", CODEC_PROPERTIES, ids=lambda p: p.name)
-def test_codec_proved_by_k_induction(prop, proof_suite_run):
-    record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
-    assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
-
-
-@pytest.mark.parametrize("name", sorted(CODEC_MUTANTS))
-def test_codec_mutant_falsified_and_counterexample_replays(name):
-    run = falsify(PROPERTIES[name], *CODEC_MUTANTS[name], max_k=1)
-    assert run.killed, run
 
 
 def _capacity(layout) -> int:
@@ -971,22 +954,28 @@ PLATFORM_MUTANTS = {
         "o.eq(i.q_dir, o.const(1))",
     ),
 }
-PLATFORM_PROPERTIES = [p for name, p in PROPERTIES.items() if name.startswith("packet_platforms.")]
+MUTANTS = {**CODEC_MUTANTS, **PLATFORM_MUTANTS}
+PROVED = [
+    p
+    for name, p in PROPERTIES.items()
+    if name.split(".")[0] in ("packet69_codec", "packet44_codec", "packet_platforms")
+]
+"""PKT-01 to PKT-12 and PLT-01 to PLT-04."""
 
 
-def test_every_platform_table_property_has_a_mutant():
-    assert set(PLATFORM_MUTANTS) == {p.name for p in PLATFORM_PROPERTIES}
+def test_every_property_has_a_mutant():
+    assert set(MUTANTS) == {p.name for p in PROVED}
 
 
-@pytest.mark.parametrize("prop", PLATFORM_PROPERTIES, ids=lambda p: p.name)
-def test_platform_table_proved_by_k_induction(prop, proof_suite_run):
+@pytest.mark.parametrize("prop", PROVED, ids=lambda p: p.name)
+def test_proved_by_k_induction(prop, proof_suite_run):
     record = proof_suite_run.by_name[prop.name]  # the session's atcs prove run (conftest.py)
     assert (record["status"], record["engine"], record["k"]) == ("proved", "k-induction", 0), record["message"]
 
 
-@pytest.mark.parametrize("name", sorted(PLATFORM_MUTANTS))
-def test_platform_table_mutant_falsified_and_counterexample_replays(name):
-    run = falsify(PROPERTIES[name], *PLATFORM_MUTANTS[name], max_k=1)
+@pytest.mark.parametrize("name", sorted(MUTANTS))
+def test_mutant_falsified_and_counterexample_replays(name):
+    run = falsify(PROPERTIES[name], *MUTANTS[name], max_k=1)
     assert run.killed, run
 
 

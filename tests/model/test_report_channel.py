@@ -33,6 +33,12 @@ MUTANTS = {
         "sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps + i.speed_accuracy_mps, o.const(0), "
         "i.clock_s)",
     ),
+    # the leader's earliest stopping point taken from its rear before this cycle's motion
+    "report_channel.leader_stop_is_earliest": (
+        separation.report_channel_step,
+        "earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)",
+        "earliest_stop_m(o, p, s.leader_rear_m, i.leader_next_speed_mps)",
+    ),
     # a channel that never delivers: SEP-07 and SEP-08 would hold of it vacuously
     "report_channel.sent_report_on_its_way": (
         separation.report_channel_step,
@@ -62,8 +68,11 @@ def test_the_properties_state_the_two_train_assumptions():
     """SEP-07 and SEP-08 apply the very predicates REPORT_REAR and REPORT_STOP apply to a delivered report."""
     assert "report_behind" in REPORT_REAR.holds.__code__.co_names
     assert "report_stop_behind" in REPORT_STOP.holds.__code__.co_names
-    for prop, predicate in zip(CHANNEL_PROPERTIES[:2], ("report_behind", "report_stop_behind"), strict=True):
-        assert predicate in prop.holds.__code__.co_names
+    for name, predicate in (
+        ("delivered_rear_behind_leader", "report_behind"),
+        ("delivered_stop_behind_leader", "report_stop_behind"),
+    ):
+        assert predicate in PROPERTIES[f"report_channel.{name}"].holds.__code__.co_names
     assert LEADER_POSITION.name == "leader_position"
 
 
