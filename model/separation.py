@@ -14,7 +14,7 @@ relative-braking mode).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Generic
 
 from atcs.model.authority import (
@@ -41,6 +41,15 @@ def earliest_stop_m(o: Ops, p: TwoTrainParams, rear_m, speed_mps):
     apart from the ATP's :func:`~atcs.model.authority.stopping_point_m`, so a fault there is not mirrored here."""
     deceleration = o.max(p.leader_max_deceleration_mps2, o.const(MIN_SPAN))  # a guard valid data never meets
     return rear_m + speed_mps * speed_mps / (o.const(2) * deceleration)
+
+
+def leader_moves(o: Ops, p: TwoTrainParams | ChannelParams, s: TwoTrainState | ChannelState, i):
+    """The leader's true state after this cycle's motion (the environment's choice of distance and end speed):
+    ``(rear, speed, earliest stopping point)``. One function for :data:`TWO_TRAINS` and :data:`REPORT_CHANNEL`,
+    so that the leader whose reports SEP-07 and SEP-08 are about is the one the two-train proofs' REPORT_REAR and
+    REPORT_STOP assume them of."""
+    rear = s.leader_rear_m + i.leader_distance_m
+    return rear, i.leader_next_speed_mps, earliest_stop_m(o, p, rear, i.leader_next_speed_mps)
 
 
 @dataclass(frozen=True)
@@ -132,7 +141,7 @@ def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInput
     reports, ma = follower_authority(o, p, s, i)
     atp, commands, _ = atp_cycle(o, p, s, i, eoa_target(o, ma.eoa_m), p.mrsp_mps)
     follower = plant_next(o, p, s, commands.emergency_brake, i.next_speed_mps, i.distance_m)
-    leader_rear = s.leader_rear_m + i.leader_distance_m
+    leader_rear, leader_speed, leader_stop = leader_moves(o, p, s, i)
     state = TwoTrainState(
         front_m=follower.front_m,
         speed_mps=follower.speed_mps,
@@ -145,8 +154,8 @@ def two_train_step(o: Ops, p: TwoTrainParams, s: TwoTrainState, i: TwoTrainInput
         last_seq=reports.last_seq,
         freshest_sent_s=reports.freshest_sent_s,
         leader_rear_m=leader_rear,
-        leader_speed_mps=i.leader_next_speed_mps,
-        leader_stop_m=earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps),
+        leader_speed_mps=leader_speed,
+        leader_stop_m=leader_stop,
     )
     return state, TwoTrainOutputs(
         warning=commands.warning,
@@ -242,11 +251,11 @@ def report_channel_step(o: Ops, p: ChannelParams, s: ChannelState, i: ChannelInp
     later, again and again, or never. One report on its way stands for each of many: a report delayed, repeated or
     overtaken is one that stayed on its way while others were sent."""
     sent = sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps, i.speed_accuracy_mps, i.clock_s)
-    leader_rear = s.leader_rear_m + i.leader_distance_m
+    leader_rear, leader_speed, leader_stop = leader_moves(o, p, s, i)
     state = ChannelState(
         leader_rear_m=leader_rear,
-        leader_speed_mps=i.leader_next_speed_mps,
-        leader_stop_m=earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps),
+        leader_speed_mps=leader_speed,
+        leader_stop_m=leader_stop,
         on_way=o.or_(s.on_way, i.sent_on),
         on_way_rear_m=o.ite(i.sent_on, sent.report_rear_m, s.on_way_rear_m),
         on_way_speed_mps=o.ite(i.sent_on, sent.report_speed_mps, s.on_way_speed_mps),
@@ -276,3 +285,96 @@ REPORT_CHANNEL = Node(
 """The leader, its reports as its onboard unit makes them, and the channel to the follower, every value symbolic:
 what :data:`TWO_TRAINS` assumes of an intact report (REPORT_REAR, REPORT_STOP) proved of the reports the leader
 sends."""
+
+
+# --- the two trains with the leader's reports on their way: the product of TWO_TRAINS and REPORT_CHANNEL -----------
+
+
+@dataclass(frozen=True)
+class ReportedParams(TwoTrainParams[N, B]):
+    leader_length_m: N
+
+
+@dataclass(frozen=True)
+class ReportedState(TwoTrainState[N, B]):
+    """The two trains' state and the leader's report on its way to the follower (as in :class:`ChannelState`)."""
+
+    on_way: B
+    on_way_rear_m: N
+    on_way_speed_mps: N
+
+
+@dataclass(frozen=True)
+class ReportedInputs(ClosedLoopInputs[N, B]):
+    """What :class:`TwoTrainInputs` holds but the report's content, which is the one on its way, and the leader's
+    position function and the channel (as :class:`ChannelInputs`)."""
+
+    held: tuple[B, ...]
+    switch_locked: tuple[B, ...]
+    switch_reversed: tuple[B, ...]
+    zone_active: B
+    zone_start_m: N
+    now_s: N
+    report_intact: B
+    """The delivered report's safety code holds (else it may say anything, and the follower discards it)."""
+    report_seq: N
+    report_sent_s: N
+    """Any sequence number and time stamp: relative braking rests on no timing."""
+    leader_distance_m: N
+    leader_next_speed_mps: N
+    front_min_m: N
+    speed_est_mps: N
+    speed_accuracy_mps: N
+    clock_s: N
+    sent_on: B
+
+
+def delivered_report(o: Ops, s: ReportedState, i: ReportedInputs) -> TwoTrainInputs:
+    """The two-train node's inputs with the report on its way as the one delivered."""
+    return TwoTrainInputs(
+        **{name: getattr(i, name) for name in TWO_TRAIN_ENVIRONMENT},
+        report_delivered=s.on_way,
+        report_rear_m=s.on_way_rear_m,
+        report_speed_mps=s.on_way_speed_mps,
+    )
+
+
+TWO_TRAIN_ENVIRONMENT = tuple(
+    name
+    for name in TwoTrainInputs.__dataclass_fields__
+    if name not in ("report_delivered", "report_rear_m", "report_speed_mps")
+)
+"""The fields of :class:`TwoTrainInputs` a :class:`ReportedInputs` holds as they are."""
+
+
+def reported_init(o: Ops, p: ReportedParams, s: ReportedState):
+    """:func:`two_train_init` (the follower holding an earlier report of its leader) and no report on its way."""
+    return o.and_(two_train_init(o, p, s), report_channel_init(o, p, s))
+
+
+def reported_step(o: Ops, p: ReportedParams, s: ReportedState, i: ReportedInputs):
+    """:func:`two_train_step` on the report on its way, and :func:`report_channel_step`: the leader's onboard unit
+    sends this cycle's report, which the channel may carry on in place of the one on its way."""
+    two_trains, out = two_train_step(o, p, s, delivered_report(o, s, i))
+    channel, _ = report_channel_step(o, p, s, i)
+    return ReportedState(
+        **{name: getattr(two_trains, name) for name in (f.name for f in fields(TwoTrainState))},
+        on_way=channel.on_way,
+        on_way_rear_m=channel.on_way_rear_m,
+        on_way_speed_mps=channel.on_way_speed_mps,
+    ), out
+
+
+TWO_TRAINS_REPORTED = Node(
+    name="reported_separation",
+    params=ReportedParams,
+    state=ReportedState,
+    inputs=ReportedInputs,
+    outputs=TwoTrainOutputs,
+    init=reported_init,
+    step=reported_step,
+    seed="001 §3.2 (Fig. 5 iii, Fig. 6), 000 §2.2, §2.5; EN 50159",
+    sizes=TWO_TRAINS.sizes,
+)
+""":data:`TWO_TRAINS` fed by :data:`REPORT_CHANNEL`: the follower's authority computed from the reports the leader's
+onboard unit makes, carried by a channel that delays, repeats, reorders or loses them."""

@@ -27,6 +27,7 @@ from atcs.properties import (
     packet_platforms,
     position,
     report_channel,
+    reported_separation,
     resources,
     separation,
     stopping_point,
@@ -79,6 +80,7 @@ PROPERTIES: dict[str, Property] = _register(
     packet69_codec.PROPERTIES,
     packet44_codec.PROPERTIES,
     report_channel.PROPERTIES,
+    reported_separation.PROPERTIES,
     packet_platforms.PROPERTIES,
 )
 

@@ -35,8 +35,8 @@ MUTANTS = {
     ),
     # the leader's earliest stopping point taken from its rear before this cycle's motion
     "report_channel.leader_stop_is_earliest": (
-        separation.report_channel_step,
-        "earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)",
+        separation.leader_moves,
+        "earliest_stop_m(o, p, rear, i.leader_next_speed_mps)",
         "earliest_stop_m(o, p, s.leader_rear_m, i.leader_next_speed_mps)",
     ),
     # a channel that never delivers: SEP-07 and SEP-08 would hold of it vacuously

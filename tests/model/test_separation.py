@@ -61,9 +61,9 @@ _MEASURED_FRONT = (
 )
 
 _LEADER_HELD = (
-    separation.two_train_step,
-    "leader_rear = s.leader_rear_m + i.leader_distance_m",
-    "leader_rear = s.leader_rear_m",
+    separation.leader_moves,
+    "rear = s.leader_rear_m + i.leader_distance_m",
+    "rear = s.leader_rear_m",
 )
 
 # property kind -> mutants (function, text in it, faulty replacement)
@@ -86,7 +86,7 @@ MUTANTS = {
     # the authority computed on the measured front, without the odometry bound (arith_drop at follower_authority:+3)
     "authority_on_safe_position_bw": [_MEASURED_FRONT],
     "authority_on_safe_position_rbd": [_MEASURED_FRONT],
-    # the leader never moves (arith_drop at two_train_step:+5)
+    # the leader never moves (arith_drop at leader_moves:+5)
     "state_follows_bw": [_LEADER_HELD],
     "state_follows_rbd": [_LEADER_HELD],
     # the leader's physics with half its highest deceleration
@@ -94,8 +94,8 @@ MUTANTS = {
     # the ghost stopping point taken from the rear before this cycle's motion
     "leader_stop_never_recedes": [
         (
-            separation.two_train_step,
-            "earliest_stop_m(o, p, leader_rear, i.leader_next_speed_mps)",
+            separation.leader_moves,
+            "earliest_stop_m(o, p, rear, i.leader_next_speed_mps)",
             "earliest_stop_m(o, p, s.leader_rear_m, i.leader_next_speed_mps)",
         )
     ],
