@@ -37,7 +37,7 @@ from atcs.model.prepared_curves import (
 )
 from atcs.model.psl import MRSP_UPDATE, PROFILE_SPLICE, PSL
 from atcs.model.resources import RESOURCES
-from atcs.model.separation import REPORT_CHANNEL, TWO_TRAINS
+from atcs.model.separation import REPORT_CHANNEL, TWO_TRAINS, TWO_TRAINS_REPORTED
 from atcs.model.supervision import SUPERVISION
 from atcs.model.t2t_message import T2T_CODEC, T2T_REPORT
 
@@ -68,6 +68,7 @@ NODES: dict[str, Node] = {
         AUTHORITY,
         ATS_STATUS,
         TWO_TRAINS,
+        TWO_TRAINS_REPORTED,
         DOOR_ENABLE,
         DCU,
         DOOR_LOOP,

@@ -9,17 +9,18 @@ loses it, and delivers the one on its way any number of cycles later, repeatedly
 time stamp stay any the environment chooses, as does whether its safety code holds.
 
 With the seed 002 preset: what the two-train node assumes of a delivered report (REPORT_REAR, REPORT_STOP) is
-proved here of the report on its way (SEP-07, SEP-08), on the leader's position function being true
-(LEADER_POSITION); and the two-train node's properties that assumed it (SEP-00, SEP-03 to SEP-06) are proved
-again with those two as lemmas in its place: the follower's kept bounds on the leader, computed from the reports
-the leader's own unit makes, are never ahead of the leader's true rear and earliest stopping point (SEP-00).
+proved here of the report on its way (SEP-11, SEP-12: SEP-07 and SEP-08 of the channel's node), on the leader's
+position function being true (LEADER_POSITION); and the two-train node's properties that assumed them (SEP-00,
+SEP-03 to SEP-06) are proved again with those two as lemmas in their place (SEP-13 to SEP-17): the bounds the
+follower keeps of the leader, computed from the reports the leader's own unit makes, are never ahead of the
+leader's true rear and earliest stopping point (SEP-13).
 
 SEP-01 and SEP-02 hold of this node by the two-train node's proofs: its runs are the two-train node's runs
 (:func:`~atcs.model.separation.reported_step` is :func:`~atcs.model.separation.two_train_step` on
 :func:`~atcs.model.separation.delivered_report`, its initial states the two-train node's), every assumption of
 theirs is here the same predicate of the same values, and REPORT_REAR and REPORT_STOP, the two that are not
-assumed here, are what SEP-07 and SEP-08 prove (with the report on its way, ``on_way``, as the one delivered).
-Proving them again on this node was measured (docs/property-scope.md): SEP-01 in 37 s, SEP-02 unknown at 600 s,
+assumed here, are what SEP-11 and SEP-12 prove (with the report on its way, ``on_way``, as the one delivered).
+Proving them again on this node was measured (docs/property-scope.md): SEP-01 in 37 s, SEP-02 unknown at 1,200 s,
 the rounding of the report on its way (floors) mixed into the nonlinear braking arithmetic.
 """
 
@@ -54,8 +55,8 @@ def on_delivered_report(holds):
     return on_product
 
 
-CARRIED = ("SEP-03", "SEP-04", "SEP-05", "SEP-06", "SEP-00")
-"""The two-train node's properties proved again here (relative braking), in the registry's order."""
+CARRIED = {"SEP-03": "SEP-14", "SEP-04": "SEP-15", "SEP-05": "SEP-16", "SEP-06": "SEP-17", "SEP-00": "SEP-13"}
+"""The two-train node's properties proved again here (relative braking), each under its own id here."""
 
 
 def _reported_properties() -> tuple[Property, ...]:
@@ -74,6 +75,7 @@ def _reported_properties() -> tuple[Property, ...]:
         requirement: dataclasses.replace(
             two_trains[requirement],
             name=name[requirement],
+            requirement=CARRIED[requirement],
             node=TWO_TRAINS_REPORTED,
             holds=on_delivered_report(two_trains[requirement].holds),
             assumptions=relative,
@@ -87,7 +89,7 @@ def _reported_properties() -> tuple[Property, ...]:
     }
     on_way_behind = Property(
         name=rear,
-        requirement="SEP-07",
+        requirement="SEP-11",
         seed="001 §3.2 (Fig. 5 iii, Fig. 6); EN 50159",
         text=(
             f"{PRESET}, relative braking: the report on its way to the follower, made by the leader's onboard unit "
@@ -102,7 +104,7 @@ def _reported_properties() -> tuple[Property, ...]:
     on_way_stop_behind = dataclasses.replace(
         on_way_behind,
         name=stop,
-        requirement="SEP-08",
+        requirement="SEP-12",
         text=(
             f"{PRESET}, relative braking: the report on its way gives a min speed >= 0 and an earliest stopping point "
             "at most the leader's current one (REPORT_STOP of the two-train node)."

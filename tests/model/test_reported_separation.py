@@ -1,8 +1,8 @@
 """The two trains with the leader's reports on their way (model/separation.py, TWO_TRAINS_REPORTED): the two-train
-node's report assumptions proved of the reports the leader's onboard unit makes (SEP-07, SEP-08 on the product
+node's report assumptions proved of the reports the leader's onboard unit makes (SEP-11, SEP-12 on the product
 node) and the properties that assumed them proved again with them as lemmas, each with a mutant falsified and its
 counterexample replayed; the side conditions of carrying SEP-01 and SEP-02 over (the product's runs are the
-two-train node's, SEP-07 and SEP-08 are REPORT_REAR and REPORT_STOP of the delivered report) checked."""
+two-train node's, SEP-11 and SEP-12 are REPORT_REAR and REPORT_STOP of the delivered report) checked."""
 
 import dataclasses
 from fractions import Fraction
@@ -89,11 +89,11 @@ def test_every_property_has_a_mutant():
 
 def test_the_report_assumptions_are_lemmas_here():
     """No property of the product assumes what it is to prove of the reports: REPORT_REAR and REPORT_STOP are gone,
-    SEP-07 and SEP-08 of the product are SEP-00's lemmas."""
+    SEP-11 and SEP-12 of the product are SEP-13's lemmas."""
     for prop in REPORTED_PROPERTIES:
         assert not {REPORT_REAR.name, REPORT_STOP.name} & {a.name for a in prop.assumptions}, prop.name
     reports = PROPERTIES[f"reported_separation.reports_behind_leader_rbd_{PRESET}"]
-    assert {PROPERTIES[n].requirement for n in reports.lemmas} == {"SEP-07", "SEP-08"}
+    assert {PROPERTIES[n].requirement for n in reports.lemmas} == {"SEP-11", "SEP-12"}
 
 
 @pytest.mark.parametrize("prop", REPORTED_PROPERTIES, ids=lambda p: p.name)
@@ -109,7 +109,7 @@ def test_mutant_falsified_and_counterexample_replays(name):
 
 
 def test_the_report_lemmas_are_the_two_train_assumptions_of_the_delivered_report():
-    """For every state and input (z3, no assumption): where SEP-07 and SEP-08 hold of the report on its way,
+    """For every state and input (z3, no assumption): where SEP-11 and SEP-12 hold of the report on its way,
     REPORT_REAR and REPORT_STOP hold of the two-train node's inputs the product gives it; and every other assumption
     of SEP-02 is the two-train node's own predicate of those inputs."""
     node = TWO_TRAINS_REPORTED
