@@ -30,9 +30,9 @@ LEADER_POSITION = Assumption(
 )
 
 
-def _on_its_way(o, p, s, i, out, nxt):
+def carried_on(o, p, s, i, nxt):
     """A report carried on is the one the leader's position function gives (its min safe rear and min speed,
-    rounded down: T2T-01, T2T-02) and is delivered from the next cycle; else the one on its way stays."""
+    rounded down: T2T-01, T2T-02) and is on its way from the next cycle; else the one on its way stays."""
     rear, speed, _ = report_quantities(
         o, i.front_min_m - p.leader_length_m, o.max(o.const(0), i.speed_est_mps - i.speed_accuracy_mps), i.clock_s
     )
@@ -42,12 +42,17 @@ def _on_its_way(o, p, s, i, out, nxt):
         o.eq(nxt.on_way_speed_mps, s.on_way_speed_mps),
     )
     carried = o.and_(nxt.on_way, o.eq(nxt.on_way_rear_m, rear), o.eq(nxt.on_way_speed_mps, speed))
+    return o.and_(o.implies(i.sent_on, carried), o.implies(o.not_(i.sent_on), kept))
+
+
+def _on_its_way(o, p, s, i, out, nxt):
+    """:func:`carried_on`, and the report on its way is the one delivered."""
     delivered = o.and_(
         o.eq(out.delivered, s.on_way),
         o.eq(out.delivered_rear_m, s.on_way_rear_m),
         o.eq(out.delivered_speed_mps, s.on_way_speed_mps),
     )
-    return o.and_(delivered, o.implies(i.sent_on, carried), o.implies(o.not_(i.sent_on), kept))
+    return o.and_(delivered, carried_on(o, p, s, i, nxt))
 
 
 def _property(name: str, requirement: str, text: str, holds, assumptions=(), lemmas=()) -> Property:
@@ -110,4 +115,4 @@ PROPERTIES = (
     ),
 )
 
-__all__ = ["LEADER_POSITION", "PROPERTIES"]
+__all__ = ["LEADER_POSITION", "PROPERTIES", "carried_on"]

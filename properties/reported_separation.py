@@ -31,7 +31,7 @@ import dataclasses
 from atcs.model.separation import TWO_TRAINS_REPORTED, delivered_report
 from atcs.properties.closed_loop import PRESETS
 from atcs.properties.property import Assumption, Property
-from atcs.properties.report_channel import LEADER_POSITION
+from atcs.properties.report_channel import LEADER_POSITION, carried_on
 from atcs.properties.separation import (
     REPORT_REAR,
     REPORT_STOP,
@@ -114,6 +114,18 @@ def _reported_properties() -> tuple[Property, ...]:
         ),
         lemmas=(name["SEP-03"],),
     )
+    on_its_way = dataclasses.replace(
+        on_way_behind,
+        name=f"reported_separation.sent_report_on_its_way_rbd_{PRESET}",
+        requirement="SEP-18",
+        text=(
+            f"{PRESET}, relative braking: a report the channel carries on is the leader's min safe rear and min speed "
+            "rounded down to the cm and cm/s, on its way from the next cycle until a later one replaces it (SEP-09 "
+            "of the channel's node; SEP-11 to SEP-13 are about the reports that do arrive)."
+        ),
+        holds=lambda o, p, s, i, out, nxt: carried_on(o, p, s, i, nxt),
+        assumptions=(),
+    )
     return (
         carried["SEP-03"],
         carried["SEP-04"],
@@ -122,6 +134,7 @@ def _reported_properties() -> tuple[Property, ...]:
         carried["SEP-05"],
         carried["SEP-06"],
         carried["SEP-00"],
+        on_its_way,
     )
 
 

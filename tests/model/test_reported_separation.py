@@ -61,6 +61,12 @@ MUTANTS = {
             "sent_report(o, p.leader_length_m, i.front_min_m, i.speed_est_mps + i.speed_accuracy_mps, o.const(0), "
             "i.clock_s)",
         ),
+        # a channel that never carries a report on: SEP-11 to SEP-13 would hold of it vacuously
+        f"sent_report_on_its_way_rbd_{PRESET}": (
+            separation.reported_step,
+            "on_way=channel.on_way,",
+            "on_way=s.on_way,",
+        ),
         # the authority computed on the measured front, without the odometry bound
         f"authority_on_safe_position_rbd_{PRESET}": (
             separation.follower_authority,

@@ -86,7 +86,7 @@ MUTANTS = {
     # the authority computed on the measured front, without the odometry bound (arith_drop at follower_authority:+3)
     "authority_on_safe_position_bw": [_MEASURED_FRONT],
     "authority_on_safe_position_rbd": [_MEASURED_FRONT],
-    # the leader never moves (arith_drop at leader_moves:+5)
+    # the leader never moves (arith_drop at leader_moves:+6)
     "state_follows_bw": [_LEADER_HELD],
     "state_follows_rbd": [_LEADER_HELD],
     # the leader's physics with half its highest deceleration
