@@ -157,6 +157,23 @@ def run(traces: Traces | None, function: Callable[..., Any], ops, *args):
     return traces.call(function, ops, *args) if traces is not None else function(ops, *args)
 
 
+_PREDICATES: dict[tuple[int, ...], tuple[tuple[Property, ...], Callable[..., tuple]]] = {}
+
+
+def _predicates(properties: tuple[Property, ...]) -> Callable[..., tuple]:
+    """One function of a step giving each property's assumptions and predicate, in turn; the same function for the
+    same properties, so that a shared :class:`Traces` traces it once (the properties are kept with it, so that
+    their ids, which key it, are not reused)."""
+    key = tuple(map(id, properties))
+    if key not in _PREDICATES:
+
+        def predicates(o, p, s, i, out, nxt):
+            return tuple((prop.assumed(o, p, s, i), prop.holds(o, p, s, i, out, nxt)) for prop in properties)
+
+        _PREDICATES[key] = (properties, predicates)
+    return _PREDICATES[key][1]
+
+
 @dataclass
 class Monitor:
     node: Node
@@ -165,9 +182,11 @@ class Monitor:
     properties: tuple[Property, ...] = ()
     ops: Any = FLOAT
     traces: Traces | None = None
-    """Where given, the node's step runs as its traced program (:meth:`Traces.call`)."""
+    """Where given, the node's step and the properties' predicates run as their traced programs
+    (:meth:`Traces.call`)."""
     step_count: int = field(default=0, init=False)
     _active: dict[str, Any] = field(default_factory=dict, init=False, repr=False)
+    _predicates: Callable[..., tuple] = field(init=False, repr=False)
 
     def __post_init__(self):
         for prop in self.properties:
@@ -176,6 +195,7 @@ class Monitor:
         if not _all(self.node.init(self.ops, self.params, self.state)):
             raise ValueError(f"node {self.node.name!r}: {self.state} is not an initial state")
         self._active = {p.name: True for p in self.properties}
+        self._predicates = _predicates(self.properties)
 
     def applies(self, name: str) -> bool:
         """Property ``name``'s assumptions have held at every step so far (so it has been checked at each)."""
@@ -185,10 +205,11 @@ class Monitor:
         """Run one cycle; return the outputs, or raise :class:`PropertyViolation`."""
         o, p, s = self.ops, self.params, self.state
         nxt, out = run(self.traces, self.node.step, o, p, s, inputs)
-        for prop in self.properties:
-            active = o.and_(self._active[prop.name], prop.assumed(o, p, s, inputs))
+        checked = run(self.traces, self._predicates, o, p, s, inputs, out, nxt)
+        for prop, (assumed, holds) in zip(self.properties, checked, strict=True):
+            active = o.and_(self._active[prop.name], assumed)
             self._active[prop.name] = active
-            if not _all(o.implies(active, prop.holds(o, p, s, inputs, out, nxt))):
+            if not _all(o.implies(active, holds)):
                 raise PropertyViolation(prop, self.step_count, s, inputs, out)
         self.state = nxt
         self.step_count += 1

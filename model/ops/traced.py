@@ -25,6 +25,7 @@ import itertools
 import sys
 from collections.abc import Callable
 from fractions import Fraction
+from math import gcd
 from typing import Any
 
 from atcs.model.errors import AtcsError
@@ -72,6 +73,9 @@ class Term:
                 a, b = program.ref(left), program.ref(right)
                 return program.assign(f"{a}._numerator * {b}._denominator {symbol} {b}._numerator * {a}._denominator")
             return program.assign(f"{program.ref(left)} {symbol} {program.ref(right)}", bool)
+        if kinds == {Fraction}:  # Fraction's own arithmetic, without its dispatch
+            arithmetic = _FRACTION_ARITHMETIC[symbol]
+            return program.assign(f"{arithmetic}({program.ref(left)}, {program.ref(right)})", Fraction)
         kind = Fraction if kinds <= {Fraction, int} and Fraction in kinds else None
         return program.assign(f"{program.ref(left)} {symbol} {program.ref(right)}", kind)
 
@@ -100,6 +104,8 @@ class Term:
         return self._binary("/", other, reflected=True)
 
     def __neg__(self):
+        if self.kind is Fraction:
+            return self._program.assign(f"_fraction_neg({self._program.ref(self)})", Fraction)
         return self._program.assign(f"-{self._program.ref(self)}", self.kind)
 
     def __lt__(self, other):
@@ -119,6 +125,86 @@ class Term:
 
 
 _ORDER = frozenset({"<", "<=", ">", ">="})
+
+
+# --- Fraction arithmetic without Fraction's dispatch ----------------------------------------------------------------
+# Python's own algorithms (``fractions.Fraction._add`` and the others), on two Fractions in lowest terms, with the
+# result made directly in lowest terms: the same value, numerator and denominator as ``a + b`` and the others.
+
+_new_object = object.__new__
+
+
+def _fraction(numerator: int, denominator: int) -> Fraction:
+    made = _new_object(Fraction)
+    made._numerator, made._denominator = numerator, denominator
+    return made
+
+
+def _fraction_add(a: Fraction, b: Fraction) -> Fraction:
+    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
+    g = gcd(da, db)
+    if g == 1:
+        return _fraction(na * db + da * nb, da * db)
+    s = da // g
+    t = na * (db // g) + nb * s
+    g2 = gcd(t, g)
+    if g2 == 1:
+        return _fraction(t, s * db)
+    return _fraction(t // g2, s * (db // g2))
+
+
+def _fraction_sub(a: Fraction, b: Fraction) -> Fraction:
+    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
+    g = gcd(da, db)
+    if g == 1:
+        return _fraction(na * db - da * nb, da * db)
+    s = da // g
+    t = na * (db // g) - nb * s
+    g2 = gcd(t, g)
+    if g2 == 1:
+        return _fraction(t, s * db)
+    return _fraction(t // g2, s * (db // g2))
+
+
+def _fraction_mul(a: Fraction, b: Fraction) -> Fraction:
+    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
+    g1 = gcd(na, db)
+    if g1 > 1:
+        na //= g1
+        db //= g1
+    g2 = gcd(nb, da)
+    if g2 > 1:
+        nb //= g2
+        da //= g2
+    return _fraction(na * nb, db * da)
+
+
+def _fraction_div(a: Fraction, b: Fraction) -> Fraction:
+    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
+    if nb == 0:
+        raise ZeroDivisionError(f"Fraction({na * db}, 0)")
+    g1 = gcd(na, nb)
+    if g1 > 1:
+        na //= g1
+        nb //= g1
+    g2 = gcd(db, da)
+    if g2 > 1:
+        da //= g2
+        db //= g2
+    n, d = na * db, nb * da
+    if d < 0:
+        n, d = -n, -d
+    return _fraction(n, d)
+
+
+def _fraction_neg(a: Fraction) -> Fraction:
+    return _fraction(-a._numerator, a._denominator)
+
+
+_FRACTION_ARITHMETIC = {"+": "_fraction_add", "-": "_fraction_sub", "*": "_fraction_mul", "/": "_fraction_div"}
+_FRACTION_FUNCTIONS = {
+    f.__name__: f for f in (_fraction_add, _fraction_sub, _fraction_mul, _fraction_div, _fraction_neg)
+}
 
 
 def _kind(value) -> type | None:
@@ -161,7 +247,7 @@ class _Program:
     def __init__(self, ops):
         self.ops = ops
         self.lines: list[str] = []
-        self.namespace: dict[str, Any] = {"_ops": ops}
+        self.namespace: dict[str, Any] = {"_ops": ops, **_FRACTION_FUNCTIONS}
         self._counter = itertools.count()
         self.arrays = False
         """An argument has numpy arrays (a batch): every Ops operation is then the backend's own call."""

@@ -29,7 +29,7 @@ from atcs.model.node import as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, unwrap
-from atcs.model.ops.traced import trace, trace_first_false
+from atcs.model.ops.traced import shape, trace, trace_first_false
 from atcs.proofs.engine.system import variables
 from atcs.properties import PROPERTIES
 from atcs.sim.monitor import _checked
@@ -129,6 +129,19 @@ def outcome(compute, *args):
         return type(exc)
 
 
+_programs: dict = {}
+
+
+def _program(tracer, node, checks, ops, *args):
+    """The program ``tracer`` makes of the node's step (or of its checks) for the shape of ``args``, made once per
+    shape and run on every example of that shape (as the simulator does): the program must hold for every value
+    of the shape, not only the one it was traced on."""
+    key = (tracer, node.name, ops.name, shape(args))
+    if key not in _programs:
+        _programs[key] = tracer(node.step, ops, *args) if tracer is trace else tracer(checks, ops, *args)
+    return _programs[key]
+
+
 @pytest.mark.parametrize("node", NODES.values(), ids=list(NODES))
 class TestEveryNodeUnderEveryBackend:
     def test_runs_under_all_three_backends(self, node):
@@ -173,12 +186,12 @@ class TestEveryNodeUnderEveryBackend:
         for ops, chosen in ((EXACT, {r: as_exact(v) for r, v in values.items()}), (FLOAT, values)):
             p, s, i = (getattr(node, role)(**chosen[role]) for role in ROLES)
             direct = outcome(node.step, ops, p, s, i)
-            assert outcome(trace(node.step, ops, p, s, i), p, s, i) == direct, ops.name
+            assert outcome(_program(trace, node, properties, ops, p, s, i), p, s, i) == direct, ops.name
             if isinstance(direct, tuple):
                 nxt, out = direct
                 checks = [outcome(c, ops, p, s, i, out, nxt) for c in properties]
                 first = next((j for j, c in enumerate(checks) if c is not True), -1)
-                program = trace_first_false(properties, ops, p, s, i, out, nxt)
+                program = _program(trace_first_false, node, properties, ops, p, s, i, out, nxt)
                 if first < 0 or checks[first] is False:
                     assert program(p, s, i, out, nxt) == first, ops.name
                 else:  # the first check that is not true raised: so does the program

@@ -25,7 +25,7 @@ from atcs.proofs.mutation.mutants import falsify, patched
 from atcs.properties import select
 from atcs.properties.closed_loop import PRESETS, closed_loop_properties, preset_data
 from atcs.sim.drivers import worst_case_driver
-from atcs.sim.monitor import Monitor
+from atcs.sim.monitor import Monitor, Traces
 
 CLOSED_LOOP_PROPERTIES = select("closed_loop.*")
 
@@ -183,7 +183,7 @@ def test_worst_case_driver_stops_before_the_eoa(eoa_m, breakpoint_m, noise):
         brake_cycles=fixed["brake_build_up_cycles"],
     )
     props = tuple(p for p in CLOSED_LOOP_PROPERTIES if p.name.endswith("_seed000"))
-    monitor = Monitor(CLOSED_LOOP, params, start, props, ops=EXACT)
+    monitor = Monitor(CLOSED_LOOP, params, start, props, ops=EXACT, traces=Traces())
     eb_cycles, s = 0, start
     for _ in range(1200):
         s = monitor.state

@@ -29,9 +29,12 @@ from atcs.model.position_loop import POSITION_LOOP, PositionLoopInputs, Position
 from atcs.proofs.engine.prove import prove
 from atcs.proofs.mutation.mutants import falsify
 from atcs.properties import PROPERTIES, select
-from atcs.sim.monitor import Monitor
+from atcs.sim.monitor import Monitor, Traces
 
 POSITION_PROPERTIES = select("position.*")
+TRACES = Traces()
+"""The position loop and its properties traced once for the runs of this module (the real model: no mutant runs
+through a monitor)."""
 
 _FAULTS = "unknown_tag, unexpected_tag, tag_passage_outside_cycle, tag_outside_window, missed_tag, implausible_tacho"
 
@@ -344,7 +347,7 @@ class PositionMachine(RuleBasedStateMachine):
     def power_up(self, start_m):
         p = _params()
         start = _power_up(Fraction(start_m))
-        self.monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
+        self.monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT, traces=TRACES)
         self.found = False  # a tag has been read since power-up
         self.faulty = False  # a sensor fault was injected: no-false-alarm no longer claimed
         self.skipped = None  # the position of a tag whose read was suppressed
@@ -438,7 +441,7 @@ def test_position_kept_from_standstill_to_350_kmh():
     table = tag_table("fast line", range(1, 22), range(0, 8001, 400))
     p = _params(table)
     start = _power_up(Fraction(-1))
-    monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT)
+    monitor = Monitor(POSITION_LOOP, p, start, tuple(POSITION_PROPERTIES), ops=EXACT, traces=TRACES)
     tags_read, top = 0, Fraction(0)
     while monitor.state.front_m < 7_900:
         s = monitor.state

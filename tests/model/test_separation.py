@@ -25,7 +25,7 @@ from atcs.properties import select
 from atcs.properties.closed_loop import PRESETS, preset_data
 from atcs.properties.separation import separation_properties
 from atcs.sim.drivers import worst_case_driver
-from atcs.sim.monitor import Monitor
+from atcs.sim.monitor import Monitor, Traces
 
 SEPARATION_PROPERTIES = select("separation.*")
 
@@ -250,7 +250,7 @@ def test_worst_case_follower_behind_a_braking_leader(mode, gap_m, leader_kmh, se
         if p.name.endswith(f"{mode}_seed000")
         or (mode == "rbd" and p.name.startswith("separation.leader_stop") and p.name.endswith("seed000"))
     )
-    monitor = Monitor(TWO_TRAINS, params, start, props, ops=EXACT)
+    monitor = Monitor(TWO_TRAINS, params, start, props, ops=EXACT, traces=Traces())
     history = [(rear, leader_v)]
     brake_at = 100 + noise.randint(0, 200)  # the leader runs, then brakes as hard as it can
     eb_cycles, min_gap, settled = 0, rear, 0

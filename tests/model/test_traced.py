@@ -72,6 +72,25 @@ class TestPrograms:
         assert trace(compare, EXACT, a, b)(a, b) == compare(EXACT, a, b)
 
     @given(a=fractions, b=fractions)
+    def test_fraction_arithmetic_gives_fractions_own_results(self, a, b):
+        def arithmetic(o, x, y):
+            return x + y, x - y, x * y, -x, x + -x, x - x, x * (y - y), x / (y * y + 1), -x / -(y * y + 1)
+
+        traced = trace(arithmetic, EXACT, a, b)(a, b)
+        assert [(r.numerator, r.denominator) for r in traced] == [
+            (r.numerator, r.denominator) for r in arithmetic(EXACT, a, b)
+        ]
+        assert all(type(r) is Fraction for r in traced)
+        if b:
+            quotient = trace(lambda o, x, y: x / y, EXACT, a, b)(a, b)
+            assert (quotient.numerator, quotient.denominator) == ((a / b).numerator, (a / b).denominator)
+
+    def test_a_fraction_divided_by_zero_raises_as_fraction_does(self):
+        program = trace(lambda o, x, y: x / y, EXACT, Fraction(1), Fraction(1))
+        with pytest.raises(ZeroDivisionError):
+            program(Fraction(1), Fraction(0))
+
+    @given(a=fractions, b=fractions)
     def test_arithmetic_mixed_with_constants(self, a, b):
         def arithmetic(o, x, y):
             z = o.const("0.1") * x - y / o.const(3) + 2 * x
@@ -160,3 +179,52 @@ class TestCheckStep:
                 check_step(broken, params, state, inputs, properties, 3, EXACT, traces)
             verdicts.append((caught.value.prop.name, caught.value.step))
         assert verdicts[0] == verdicts[1]
+
+
+class TestMonitor:
+    """A monitor given traces runs the node's step and its properties' predicates as their programs: the same
+    outputs, states and applicable properties as without, cycle by cycle, and a violation names the same property
+    at the same step."""
+
+    @staticmethod
+    def _runs(node, cycles: int):
+        from tests.model.test_position import POSITION_PROPERTIES, _free_running, _motion, _params, _power_up
+
+        p = _params()
+        monitors = [
+            monitor.Monitor(node, p, _power_up(Fraction(95)), tuple(POSITION_PROPERTIES), EXACT, traces)
+            for traces in (Traces(), None)
+        ]
+        for k in range(cycles):
+            steps = []
+            for m in monitors:
+                s = m.state
+                v_next, distance = _motion(p, s.speed_mps, Fraction(1, 2))
+                passed = [x for x in p.tag_positions_m if s.front_m < x <= s.front_m + distance]
+                since = s.front_m + distance - passed[0] if passed else Fraction(0)
+                tag = p.tag_ids[p.tag_positions_m.index(passed[0])] if passed else Fraction(0)
+                tacho = distance * (1 + Fraction((-1) ** k, 100))
+                inputs = _free_running(bool(passed), tag, since, tacho, distance, since, v_next)
+                try:
+                    steps.append((m.step(inputs), m.state, [m.applies(q.name) for q in m.properties]))
+                except PropertyViolation as violation:
+                    steps.append((violation.prop.name, violation.step))
+            yield steps
+
+    def test_traced_and_direct_agree_cycle_by_cycle(self):
+        from atcs.model.position_loop import POSITION_LOOP
+
+        for traced, direct in self._runs(POSITION_LOOP, 120):
+            assert traced == direct
+
+    def test_a_violation_names_the_same_property_at_the_same_step(self):
+        from atcs.model.position_loop import POSITION_LOOP
+
+        def lost_at_tags(o, p, s, i):
+            nxt, out = POSITION_LOOP.step(o, p, s, i)
+            return nxt, dataclasses.replace(out, front_max_m=o.ite(i.tag_read, out.front_min_m - 1, out.front_max_m))
+
+        broken = dataclasses.replace(POSITION_LOOP, step=lost_at_tags)
+        verdicts = [steps for steps in self._runs(broken, 120) if isinstance(steps[0][0], str)]
+        assert verdicts, "the broken loop was never caught"
+        assert verdicts[0][0] == verdicts[0][1]
