@@ -38,6 +38,11 @@ first four (docs/benchmarks.md, ``atcs certify``), so the suite has cvc5 confirm
 each of these properties and leaves these ``unconfirmed``; ``atcs certify`` without ``--z3-only`` certifies those
 four with both solvers. ATO-04's nonlinear base check is left ``unknown`` by cvc5 (tried for 2 minutes)."""
 
+CERTIFIED_BEFORE = Path(__file__).parent / "proofs" / "certify" / "suite_certificates.json"
+"""The listing of an earlier run of the suite's ``atcs certify`` (``--reuse``): cvc5 is not asked again about a
+script byte for byte the same as one it found unsat there with the same cvc5 version (docs/proofs.md,
+"Certificates"); z3 checks every script each run. Refreshed by copying a later run's ``certificates.json`` here."""
+
 _BACKGROUND = """
 import json
 import sys
@@ -113,6 +118,8 @@ def pytest_collection_finish(session):
         *(a for solver, limit in CERTIFY_TIMEOUTS_S.items() for a in (f"--{solver}-timeout", str(limit))),
         "--z3-only",
         ",".join(CERTIFY_Z3_ONLY),
+        "--reuse",
+        str(CERTIFIED_BEFORE),
     ]
     with paths.stdout.open("w") as stdout:
         process = subprocess.Popen(

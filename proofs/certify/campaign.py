@@ -39,6 +39,15 @@ class ProveReportError(AtcsInputError):
     """A prove report that cannot give the depths; the message names the file, the field and the value."""
 
 
+class ListingError(AtcsInputError):
+    """A certificates listing (``--reuse``) that cannot be read; the message names the file, the field and the
+    value."""
+
+
+REUSED = "reused: cvc5 found this very script unsat in {source}"
+"""The reason of a cvc5 verdict taken from an earlier run's listing (:func:`cvc5_unsat_scripts`)."""
+
+
 @dataclass
 class Certified:
     name: str
@@ -113,6 +122,40 @@ def depths_from_report(path: str | Path, registry: Mapping[str, Property] = PROP
     return depths
 
 
+def cvc5_unsat_scripts(path: str | Path) -> tuple[dict[str, int | None], str]:
+    """The scripts an earlier ``atcs certify`` listing (its ``certificates.json``) records cvc5 finding unsat, by
+    their SHA-256, with the resource units cvc5 used; none if that run's cvc5 is not this one (a verdict is kept
+    only for the same script and the same solver). Also what to say about it: how many were found, or why none."""
+    doc = read_json(path, ListingError, "the certificates listing")
+    records = doc.get("properties") if isinstance(doc, dict) else None
+    if not isinstance(records, list):
+        raise ListingError(f"{path}: properties is missing or not a list (is it an atcs certify certificates.json?)")
+    versions = doc.get("solver_versions")
+    version = versions.get("cvc5") if isinstance(versions, dict) else None
+    if not isinstance(version, str):
+        raise ListingError(f"{path}: solver_versions.cvc5 must be a version string, got {version!r}")
+    scripts: dict[str, int | None] = {}
+    for j, record in enumerate(records):
+        checks = record.get("checks") if isinstance(record, dict) else None
+        if not isinstance(checks, list):
+            raise ListingError(f"{path}: properties[{j}].checks must be a list, got {checks!r}")
+        for m, check in enumerate(checks):
+            where = f"properties[{j}].checks[{m}]"
+            digest = check.get("sha256") if isinstance(check, dict) else None
+            if not isinstance(digest, str) or len(digest) != 64:
+                raise ListingError(f"{path}: {where}.sha256 must be a SHA-256 in hex, got {digest!r}")
+            cvc5 = check.get("cvc5")
+            if not isinstance(cvc5, dict) or cvc5.get("verdict") not in ("sat", "unsat", "unknown"):
+                raise ListingError(f"{path}: {where}.cvc5 must hold cvc5's verdict, got {cvc5!r}")
+            units = cvc5.get("resource_units")
+            if cvc5["verdict"] == "unsat":
+                scripts[digest] = units if isinstance(units, int) and not isinstance(units, bool) else None
+    ours = solver_versions()["cvc5"]
+    if version != ours:
+        return {}, f"none of its verdicts reused: they are cvc5 {version}'s, this is cvc5 {ours}"
+    return scripts, f"{len(scripts)} scripts cvc5 {ours} found unsat"
+
+
 def solver_timeouts(timeout_s: float | Mapping[str, float]) -> dict[str, float]:
     """Each solver's per-check time limit: one number for both, or one per solver (every solver named)."""
     limits = dict(timeout_s) if isinstance(timeout_s, Mapping) else {s: timeout_s for s in SOLVERS}
@@ -131,10 +174,14 @@ def certify_one(
     cvc5_resource_limit: int | None = None,
     z3_only: bool = False,
     registry: Mapping[str, Property] | None = None,
+    cvc5_unsat: Mapping[str, int | None] | None = None,
+    reused_from: str = "",
 ) -> Certified:
     """The certificate of one registered property proved at depth ``k``, checked by every solver within its
     per-check time limit (:func:`solver_timeouts`), cvc5 also within ``cvc5_resource_limit`` units a check;
-    with ``z3_only`` cvc5 is not asked (its checks say so, and the property stays unconfirmed)."""
+    with ``z3_only`` cvc5 is not asked (its checks say so, and the property stays unconfirmed). A script whose
+    SHA-256 is in ``cvc5_unsat`` (:func:`cvc5_unsat_scripts` of the listing ``reused_from``) is not given to cvc5
+    again: its verdict is that listing's, said so in the check's reason; z3 checks every script."""
     limits = solver_timeouts(timeout_s)
     registry = _registry_in_this_worker if registry is None else registry
     prop = registry[name]
@@ -158,7 +205,12 @@ def certify_one(
                     )
                 )
                 continue
-            check = check_obligation(solver, ob, limits[solver], cvc5_resource_limit if solver == "cvc5" else None)
+            if solver == "cvc5" and cvc5_unsat and ob.sha256 in cvc5_unsat:
+                check = SolverCheck(
+                    solver, ob.check, "unsat", 0.0, REUSED.format(source=reused_from), cvc5_unsat[ob.sha256]
+                )
+            else:
+                check = check_obligation(solver, ob, limits[solver], cvc5_resource_limit if solver == "cvc5" else None)
             done[(solver, ob.formula)] = check
             checks.append(check)
             if check.verdict == "unknown":
@@ -176,22 +228,26 @@ def run(
     z3_only: Collection[str] = (),
     on_start: Callable[[Property], None] = lambda p: None,
     configuration: str | None = None,
+    reuse: str | Path | None = None,
 ) -> Iterator[Certified]:
     """Yield the certificate of each property in ``depths`` (registered, or of the ``configuration`` file),
     checked, in completion order (``timeout_s``: one per-check limit for both solvers, or one per solver;
-    ``z3_only``: the properties cvc5 is not asked about)."""
+    ``z3_only``: the properties cvc5 is not asked about; ``reuse``: an earlier run's listing, whose cvc5 verdicts
+    on the very same scripts are taken, :func:`certify_one`)."""
     from atcs.proofs.engine.suite import configured_registry
 
     timeout_s = solver_timeouts(timeout_s)
     if jobs < 1:
         raise ValueError(f"jobs must be at least 1, got {jobs!r}")
     todo = [p for p in props if p.name in depths]
+    cvc5_unsat = cvc5_unsat_scripts(reuse)[0] if reuse is not None else {}
+    reused = {"cvc5_unsat": cvc5_unsat, "reused_from": str(reuse)} if cvc5_unsat else {}
     if jobs == 1 or len(todo) <= 1:
         registry = configured_registry(configuration)
         for prop in todo:
             on_start(prop)
             yield certify_one(
-                prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only, registry
+                prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only, registry, **reused
             )
         return
     setup = (_use_configuration, (configuration,)) if configuration is not None else (None, ())
@@ -201,7 +257,13 @@ def run(
             on_start(prop)
             futures.append(
                 pool.submit(
-                    certify_one, prop.name, depths[prop.name], timeout_s, cvc5_resource_limit, prop.name in z3_only
+                    certify_one,
+                    prop.name,
+                    depths[prop.name],
+                    timeout_s,
+                    cvc5_resource_limit,
+                    prop.name in z3_only,
+                    **reused,
                 )
             )
         for future in as_completed(futures):

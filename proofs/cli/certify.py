@@ -89,6 +89,13 @@ def add_parser(subparsers) -> None:
         default=None,
         help="globs over property names: check these with z3 alone (cvc5 is not asked; they stay unconfirmed)",
     )
+    f.add_argument(
+        "--reuse",
+        metavar="LISTING",
+        default=None,
+        help="an earlier run's certificates.json: a script byte for byte the same as one it records cvc5 finding "
+        "unsat (same SHA-256, same cvc5 version) is not given to cvc5 again; z3 checks every script",
+    )
     add_jobs(f)
     f.set_defaults(run=run)
 
@@ -103,6 +110,9 @@ def run(args, out, err) -> int:
     props = selected_properties("certify", args.only, _configured(args.config, registry))
     check_outputs(dirs={"--dir": args.dir})
     z3_only = _z3_only(args.z3_only, registry)
+    if args.reuse is not None:
+        with reraised("certify: --reuse ", campaign.ListingError):
+            err.print(f"certify: reusing {args.reuse}: {campaign.cvc5_unsat_scripts(args.reuse)[1]}")
     start = time.monotonic()
     needed = {lemma for p in props for lemma in _lemma_closure(p, registry)}
     wanted = [*props, *(registry[n] for n in sorted(needed - {p.name for p in props}))]
@@ -166,6 +176,7 @@ def run(args, out, err) -> int:
                 "solver_timeout_s": limits,
                 "cvc5_resource_limit": args.cvc5_rlimit,
                 "z3_only": sorted(z3_only & {p.name for p in wanted}),
+                "reused": args.reuse,
                 "wall_s": round(wall, 3),
                 "summary": counts,
                 "properties": records,
@@ -226,6 +237,7 @@ def _certify_all(campaign, wanted: list, depths: dict, limits: dict, z3_only: se
                 cvc5_resource_limit=args.cvc5_rlimit,
                 z3_only=z3_only,
                 configuration=args.config,
+                reuse=args.reuse,
             ):
                 results[c.name] = c
                 bar.done(f"certified {c.name}", f"{c.own_status()} {c.name} (own checks, lemmas aside)")

@@ -212,6 +212,65 @@ class TestScripts:
         assert c.own_status() == "certified"
 
 
+class TestReuse:
+    """``--reuse``: cvc5's verdict on a script byte for byte the same as one an earlier listing records unsat (same
+    cvc5 version) is taken from it; any other script is given to cvc5; z3 checks every script."""
+
+    def test_a_listed_script_is_not_given_to_cvc5_again_and_every_other_is(self, tmp_path, monkeypatch):
+        import atcs.proofs.certify.campaign as certify
+
+        report = tmp_path / "r.json"
+        name = "supervision.sb_held_above_permitted"
+        report.write_text(json.dumps({"properties": [{"name": name, "status": "proved", "k": 1}]}))
+        argv = ["certify", "--only", name, "--report", str(report)]
+        assert main([*argv, "--dir", str(tmp_path / "first")]) == 0
+        listing = tmp_path / "first" / "certificates.json"
+        doc = json.loads(listing.read_text())
+        changed = doc["properties"][0]["checks"][0]  # as if the base's script had changed since
+        changed["sha256"] = "0" * 64
+        listing.write_text(json.dumps(doc))
+        real, asked = certify.check_obligation, []
+
+        def counted(solver, ob, timeout_s, resource_limit):
+            asked.append((solver, ob.check))
+            return real(solver, ob, timeout_s, resource_limit)
+
+        monkeypatch.setattr(certify, "check_obligation", counted)
+        assert main([*argv, "--dir", str(tmp_path / "again"), "--reuse", str(listing)]) == 0
+        again = json.loads((tmp_path / "again" / "certificates.json").read_text())
+        checks = {c["check"]: c for c in again["properties"][0]["checks"]}
+        assert again["reused"] == str(listing) and set(checks) == {"base", "step", "invariant"}
+        assert sorted(asked) == sorted([("z3", c) for c in checks] + [("cvc5", "base")])
+        reused = f"reused: cvc5 found this very script unsat in {listing}"
+        assert [checks[c]["cvc5"]["reason"] for c in ("step", "invariant")] == [reused] * 2
+        assert all(
+            checks[c]["cvc5"]["seconds"] == 0 < checks[c]["cvc5"]["resource_units"] for c in ("step", "invariant")
+        )
+        assert checks["base"]["cvc5"]["reason"] == "" and again["properties"][0]["status"] == "certified"
+
+    def test_another_cvc5_versions_listing_reuses_nothing_and_says_so(self, tmp_path):
+        import atcs.proofs.certify.campaign as certify
+
+        listing = tmp_path / "certificates.json"
+        check = {"sha256": "a" * 64, "cvc5": {"verdict": "unsat", "resource_units": 5}}
+        doc = {"solver_versions": {"cvc5": "0.0.1"}, "properties": [{"checks": [check]}]}
+        listing.write_text(json.dumps(doc))
+        scripts, said = certify.cvc5_unsat_scripts(listing)
+        assert scripts == {} and said.startswith("none of its verdicts reused: they are cvc5 0.0.1's, this is cvc5 ")
+        doc["solver_versions"]["cvc5"] = certify.solver_versions()["cvc5"]
+        listing.write_text(json.dumps(doc))
+        assert certify.cvc5_unsat_scripts(listing)[0] == {"a" * 64: 5}
+
+    def test_the_suites_listing_is_readable(self):
+        import atcs.proofs.certify.campaign as certify
+        from tests.conftest import CERTIFIED_BEFORE
+
+        scripts, _ = certify.cvc5_unsat_scripts(CERTIFIED_BEFORE)
+        doc = json.loads(CERTIFIED_BEFORE.read_text())
+        assert doc["tool"] == "atcs certify" and doc["reused"] is None  # made by cvc5 itself, not by a reuse
+        assert scripts or doc["solver_versions"]["cvc5"] != certify.solver_versions()["cvc5"]
+
+
 class TestBadInput:
     @pytest.mark.parametrize(
         ("content", "message"),
@@ -255,6 +314,25 @@ class TestBadInput:
         argv = ["certify", "--only", "supervision.eb_above_ebi", "--z3-only", "supervision.*,nosuch.*"]
         assert main([*argv, "--dir", str(tmp_path)]) == 2
         assert "--z3-only 'nosuch.*' matches no property" in capsys.readouterr().err
+
+    @pytest.mark.parametrize(
+        ("content", "message"),
+        [
+            ("[]", "properties is missing or not a list"),
+            ('{"properties": [], "solver_versions": {}}', "solver_versions.cvc5 must be a version string, got None"),
+            (
+                '{"properties": [{"checks": [{"sha256": "x"}]}], "solver_versions": {"cvc5": "1"}}',
+                "properties[0].checks[0].sha256 must be a SHA-256 in hex, got 'x'",
+            ),
+        ],
+    )
+    def test_a_bad_listing_to_reuse_names_the_file_the_field_and_the_value(self, tmp_path, capsys, content, message):
+        path = tmp_path / "listing.json"
+        path.write_text(content)
+        argv = ["certify", "--only", "supervision.eb_above_ebi", "--reuse", str(path), "--dir", str(tmp_path)]
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert f"--reuse {path}: {message}" in err and len(err.strip().splitlines()) == 1, err
 
     def test_no_matching_property(self, tmp_path, capsys):
         assert main(["certify", "--only", "nosuch.*", "--dir", str(tmp_path)]) == 2

@@ -64,12 +64,10 @@ def test_a_task_whose_workers_keep_dying_fails_after_the_retries():
 
 
 @pytest.mark.slow
-def test_local_workers_give_the_same_map_with_a_worker_killed():
+def test_local_workers_give_the_same_map_with_a_worker_killed(undisturbed_sweep):
     from tests.proofs.envelope.test_ray import CONFIG, _names, _verdicts
 
     names = _names()
-    with local_executor(1) as tasks:
-        inline = sweep(CONFIG, names, timeout_s=300, executor=tasks)
     seen: list = []
     killed: list = []
     with local_executor(2) as tasks:
@@ -78,5 +76,5 @@ def test_local_workers_give_the_same_map_with_a_worker_killed():
         on_workers = sweep(CONFIG, names, timeout_s=300, executor=tasks, on_cell=lambda name, c: seen.append(name))
         hunter.join()
     assert killed, "no worker was running to kill"
-    assert _verdicts(on_workers) == _verdicts(inline)
+    assert _verdicts(on_workers) == _verdicts(undisturbed_sweep)
     assert sorted(seen) == sorted(names)  # each verdict once: none lost, none duplicated

@@ -14,7 +14,7 @@ from atcs.model.configuration import load_configuration
 from atcs.proofs.cli import main
 from atcs.proofs.cli._common import EXIT_USAGE
 from atcs.proofs.envelope import sweep
-from atcs.proofs.envelope.executors import RAY_INSTALL, local_executor, ray_executor
+from atcs.proofs.envelope.executors import RAY_INSTALL, ray_executor
 from atcs.proofs.envelope.sweep import envelope_properties
 
 CONFIG = str(Path(__file__).parents[3] / "model" / "configurations" / "envelope.toml")
@@ -49,10 +49,9 @@ def _kill_one_running_task(killed: list) -> None:
 
 
 @pytest.mark.slow
-def test_ray_gives_the_same_map_as_local_workers_even_with_a_worker_killed():
+def test_ray_gives_the_same_map_as_local_workers_even_with_a_worker_killed(undisturbed_sweep):
     names = _names()
-    with local_executor(2) as tasks:
-        local = sweep(CONFIG, names, timeout_s=300, executor=tasks)
+    local = undisturbed_sweep
     killed: list = []
     seen: list = []
     with ray_executor("auto", 2) as tasks:
