@@ -24,6 +24,7 @@ from atcs.model.ops import (
 )
 
 _SCALARS = frozenset({float, int, bool})
+_CONSTANT_TYPES = frozenset({int, str, Fraction})
 
 
 class _LoadedNumpy:
@@ -55,17 +56,16 @@ class FloatOps:
     name = "float"
 
     def __init__(self):
-        self._constants: dict[tuple[type, Constant], float] = {}
+        self._constants: dict[Constant, float] = {}
 
     def const(self, value: Constant) -> float:
-        key = (type(value), value)  # the type too: True == 1, but a bool is refused
-        try:
-            return self._constants[key]
-        except KeyError:
-            converted = self._constants[key] = float(to_fraction(value))
-            return converted
-        except TypeError:  # unhashable: to_fraction refuses it
-            return float(to_fraction(value))
+        if type(value) in _CONSTANT_TYPES:  # not a bool or a float, which equal (and hash as) ints and Fractions
+            try:
+                return self._constants[value]
+            except KeyError:
+                converted = self._constants[value] = float(to_fraction(value))
+                return converted
+        return float(to_fraction(value))  # which refuses it, or a subclass
 
     def const_bool(self, value: bool) -> bool:
         return bool(value)
@@ -78,15 +78,23 @@ class FloatOps:
         return then if cond else else_
 
     def min(self, first, *rest):
-        if len(rest) == 1 and type(first) in _SCALARS and type(rest[0]) in _SCALARS:
-            return min(first, rest[0])
+        if len(rest) == 1:
+            other = rest[0]
+            if type(first) is float and type(other) is float:  # the common case, as the builtin min does it
+                return other if other < first else first
+            if type(first) in _SCALARS and type(other) in _SCALARS:
+                return min(first, other)
         if _any_array(first, *rest):
             return reduce(np.minimum, rest, np.asarray(first))
         return min(first, *rest) if rest else first
 
     def max(self, first, *rest):
-        if len(rest) == 1 and type(first) in _SCALARS and type(rest[0]) in _SCALARS:
-            return max(first, rest[0])
+        if len(rest) == 1:
+            other = rest[0]
+            if type(first) is float and type(other) is float:  # the common case, as the builtin max does it
+                return other if other > first else first
+            if type(first) in _SCALARS and type(other) in _SCALARS:
+                return max(first, other)
         if _any_array(first, *rest):
             return reduce(np.maximum, rest, np.asarray(first))
         return max(first, *rest) if rest else first
