@@ -140,8 +140,8 @@ def _fraction(numerator: int, denominator: int) -> Fraction:
     return made
 
 
-def _fraction_add(a: Fraction, b: Fraction) -> Fraction:
-    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
+def _fraction_sum(na: int, da: int, nb: int, db: int) -> Fraction:
+    """``na/da + nb/db``, both in lowest terms."""
     g = gcd(da, db)
     if g == 1:
         return _fraction(na * db + da * nb, da * db)
@@ -153,17 +153,12 @@ def _fraction_add(a: Fraction, b: Fraction) -> Fraction:
     return _fraction(t // g2, s * (db // g2))
 
 
+def _fraction_add(a: Fraction, b: Fraction) -> Fraction:
+    return _fraction_sum(a._numerator, a._denominator, b._numerator, b._denominator)
+
+
 def _fraction_sub(a: Fraction, b: Fraction) -> Fraction:
-    na, da, nb, db = a._numerator, a._denominator, b._numerator, b._denominator
-    g = gcd(da, db)
-    if g == 1:
-        return _fraction(na * db - da * nb, da * db)
-    s = da // g
-    t = na * (db // g) - nb * s
-    g2 = gcd(t, g)
-    if g2 == 1:
-        return _fraction(t, s * db)
-    return _fraction(t // g2, s * (db // g2))
+    return _fraction_sum(a._numerator, a._denominator, -b._numerator, b._denominator)
 
 
 def _fraction_mul(a: Fraction, b: Fraction) -> Fraction:
