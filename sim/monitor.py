@@ -19,7 +19,7 @@ import numpy as np
 from atcs.model.errors import AtcsViolation
 from atcs.model.node import Node
 from atcs.model.ops.floating import FLOAT
-from atcs.model.ops.traced import Untraceable, shape, trace, trace_first_false
+from atcs.model.ops.traced import Untraceable, shape, trace, trace_step_first_false
 from atcs.properties.property import Property
 
 
@@ -60,11 +60,10 @@ def _checked(prop: Property):
 
 @dataclass(frozen=True)
 class _Traced:
-    """Programs traced once for one shape of their arguments: a function's (``run``), or a node's step (``run``)
-    and the check of its properties (``first_false``)."""
+    """A program traced once for one shape of its arguments: a function's, or a node's step followed by the check
+    of its properties (:func:`~atcs.model.ops.traced.trace_step_first_false`)."""
 
     run: Any
-    first_false: Any = None
     keeps: tuple = ()
     """The functions, properties and backend traced: kept alive while the trace is, so that their ids, which key
     it, are not reused."""
@@ -107,17 +106,17 @@ class Traces:
         return traced.run(*args) if traced is not None else function(ops, *args)
 
     def node(self, node: Node, params, state, inputs, properties: tuple[Property, ...], ops) -> _Traced | None:
-        """The traced step and check for these arguments' shape, or None where they cannot be traced."""
+        """The traced step and check for these arguments' shape (one program: a check reuses what the step
+        computed), or None where they cannot be traced."""
         try:
             key = (id(node), id(ops), tuple(map(id, properties)), shape((params, state, inputs)))
         except Untraceable:
             return None
 
         def make() -> _Traced:
-            step = trace(node.step, ops, params, state, inputs)
-            nxt, out = step(params, state, inputs)
-            checks = trace_first_false([_checked(p) for p in properties], ops, params, state, inputs, out, nxt)
-            return _Traced(step, checks, (node, ops, properties))
+            checks = [_checked(p) for p in properties]
+            program = trace_step_first_false(node.step, checks, ops, params, state, inputs)
+            return _Traced(program, (node, ops, properties))
 
         return self._program(key, make)
 
@@ -140,8 +139,7 @@ def check_step(
     traced; without, the functions themselves run."""
     programs = traces.node(node, params, state, inputs, properties, ops) if traces is not None else None
     if programs is not None:
-        nxt, out = programs.run(params, state, inputs)
-        failed = programs.first_false(params, state, inputs, out, nxt)
+        nxt, out, failed = programs.run(params, state, inputs)
         if failed >= 0:
             raise PropertyViolation(properties[failed], step, state, inputs, out)
         return nxt, out

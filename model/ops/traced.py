@@ -125,6 +125,7 @@ class Term:
 
 
 _ORDER = frozenset({"<", "<=", ">", ">="})
+_NUMBERS = frozenset({Fraction, float, int})
 
 
 # --- Fraction arithmetic without Fraction's dispatch ----------------------------------------------------------------
@@ -237,13 +238,19 @@ class _Leaf(Term):
 
 
 class _Program:
-    """The assignments recorded so far and the names they refer to."""
+    """The assignments recorded so far and the names they refer to.
+
+    Every operation a program performs is pure and every name is assigned once, so an expression already assigned
+    is not computed again: its name is used (common subexpressions computed once, as where a property's predicate
+    recomputes what the step computed)."""
 
     def __init__(self, ops):
         self.ops = ops
         self.lines: list[str] = []
         self.namespace: dict[str, Any] = {"_ops": ops, **_FRACTION_FUNCTIONS}
         self._counter = itertools.count()
+        self._assigned: dict[str, Term] = {}
+        self._constants: dict[tuple[type, str], str] = {}
         self.arrays = False
         """An argument has numpy arrays (a batch): every Ops operation is then the backend's own call."""
 
@@ -251,9 +258,13 @@ class _Program:
         return f"{prefix}{next(self._counter)}"
 
     def assign(self, expression: str, kind: type | None = None) -> Term:
+        known = self._assigned.get(expression)
+        if known is not None:
+            return known if kind is None or kind is known.kind else Term(self, known.name, kind)
         name = self.fresh()
         self.lines.append(f"{name} = {expression}")
-        return Term(self, name, kind)
+        term = self._assigned[expression] = Term(self, name, kind)
+        return term
 
     def ref(self, value) -> str:
         """``value`` in the program's source: a term's name, a tuple's entries, a constant bound to a name."""
@@ -267,8 +278,13 @@ class _Program:
             return "(" + "".join(f"{self.ref(v)}, " for v in value) + ")"
         if type(value) in (bool, type(None)):
             return repr(value)
+        key = (type(value), repr(value)) if type(value) in _NUMBERS else None  # repr: -0.0 is not 0.0
+        if key in self._constants:
+            return self._constants[key]
         name = self.fresh("c")
         self.namespace[name] = value
+        if key is not None:
+            self._constants[key] = name
         return name
 
 
@@ -498,29 +514,69 @@ def _all(value) -> bool:
     return value if type(value) is bool else bool(sys.modules["numpy"].all(value))
 
 
+def _append_checks(program: _Program, predicates, placeholders, trial, arguments: list[str], returned) -> None:
+    """Append to ``program`` each predicate's check in turn, on ``placeholders`` (read from the sources
+    ``arguments``): ``return returned(index)`` where it is false. Each is traced first on ``trial`` (a program
+    thrown away, with placeholders of the same shapes), so that one that cannot be traced leaves nothing behind
+    here: it is called as it is."""
+    trial_program, trial_placeholders = trial
+    for index, predicate in enumerate(predicates):
+        try:
+            _traced(trial_program, predicate, trial_placeholders)
+        except Untraceable:
+            called = program.fresh("f")
+            program.namespace[called] = predicate
+            program.lines.append(f"if not {called}(_ops, {', '.join(arguments)}): return {returned(index)}")
+            continue
+        held = program.ref(_traced(program, predicate, placeholders))
+        program.lines.append(f"if not {f'_all({held})' if program.arrays else held}: return {returned(index)}")
+
+
+def _programs(ops, examples) -> tuple[_Program, list, _Program, list]:
+    """A program and a trial program (:func:`_append_checks`), each with placeholders for the arguments."""
+    for example in examples:
+        shape(example)
+    made = []
+    for _ in range(2):
+        program = _Program(ops)
+        program.namespace["_all"] = _all
+        made += [program, [_placeholder(program, e, f"a{j}") for j, e in enumerate(examples)]]
+    return tuple(made)
+
+
 def trace_first_false(predicates, ops, *examples) -> Callable[..., int]:
     """One program for the predicates ``predicate(ops, *args) -> bool`` in turn, for arguments of the shape of
     ``examples``: returns the index of the first that is false (on a batch: false for some train), or -1 if all
     hold. Each predicate is evaluated
     only if those before it hold (as one checks them in turn); one that cannot be traced is called as it is."""
-    for example in examples:
-        shape(example)
-    program = _Program(ops)
-    program.namespace["_all"] = _all
+    program, placeholders, trial, trial_placeholders = _programs(ops, examples)
     arguments = [f"a{j}" for j in range(len(examples))]
-    placeholders = [_placeholder(program, example, name) for example, name in zip(examples, arguments, strict=True)]
-    for index, predicate in enumerate(predicates):
-        trial = _Program(ops)  # traced apart first, so that a predicate that cannot be leaves nothing behind
-        try:
-            _traced(trial, predicate, [_placeholder(trial, e, a) for e, a in zip(examples, arguments, strict=True)])
-        except Untraceable:
-            called = program.fresh("f")
-            program.namespace[called] = predicate
-            program.lines.append(f"if not {called}(_ops, {', '.join(arguments)}): return {index}")
-            continue
-        held = program.ref(_traced(program, predicate, placeholders))
-        program.lines.append(f"if not {f'_all({held})' if program.arrays else held}: return {index}")
+    _append_checks(program, predicates, placeholders, (trial, trial_placeholders), arguments, str)
     return _compile(program, arguments, [*program.lines, "return -1"], "predicates")
 
 
-__all__ = ["LEAVES", "Term", "TraceOps", "Untraceable", "shape", "trace", "trace_first_false"]
+def trace_step_first_false(step, predicates, ops, *examples) -> Callable[..., tuple]:
+    """One program for a node's ``step(ops, *args) -> (next state, outputs)`` and then the predicates
+    ``predicate(ops, *args, outputs, next state) -> bool`` on its result in turn (as :func:`trace_first_false`),
+    for arguments of the shape of ``examples``: returns (next state, outputs, the index of the first predicate that
+    is false or -1). What a predicate computes that the step has computed already is not computed again."""
+    program, placeholders, trial, trial_placeholders = _programs(ops, examples)
+    arguments = [f"a{j}" for j in range(len(examples))]
+    nxt, out = _traced(program, step, placeholders)
+    trial_nxt, trial_out = _traced(trial, step, trial_placeholders)
+    built = _rebuild(program, (nxt, out))
+    result = program.fresh("r")
+    program.lines.append(f"{result} = {built}")
+    _append_checks(
+        program,
+        predicates,
+        [*placeholders, out, nxt],
+        (trial, [*trial_placeholders, trial_out, trial_nxt]),
+        [*arguments, f"{result}[1]", f"{result}[0]"],
+        lambda index: f"{result}[0], {result}[1], {index}",
+    )
+    lines = [*program.lines, f"return {result}[0], {result}[1], -1"]
+    return _compile(program, arguments, lines, f"{_name(step)} and predicates")
+
+
+__all__ = ["LEAVES", "Term", "TraceOps", "Untraceable", "shape", "trace", "trace_first_false", "trace_step_first_false"]

@@ -29,7 +29,7 @@ from atcs.model.node import as_dict, flatten
 from atcs.model.ops.exact import EXACT
 from atcs.model.ops.floating import FLOAT
 from atcs.model.ops.symbolic import SYMBOLIC, unwrap
-from atcs.model.ops.traced import shape, trace, trace_first_false
+from atcs.model.ops.traced import shape, trace, trace_first_false, trace_step_first_false
 from atcs.proofs.engine.system import variables
 from atcs.properties import PROPERTIES
 from atcs.sim.monitor import _checked
@@ -133,12 +133,15 @@ _programs: dict = {}
 
 
 def _program(tracer, node, checks, ops, *args):
-    """The program ``tracer`` makes of the node's step (or of its checks) for the shape of ``args``, made once per
-    shape and run on every example of that shape (as the simulator does): the program must hold for every value
-    of the shape, not only the one it was traced on."""
+    """The program ``tracer`` makes of the node's step (or of its checks, or of both) for the shape of ``args``,
+    made once per shape and run on every example of that shape (as the simulator does): the program must hold for
+    every value of the shape, not only the one it was traced on."""
     key = (tracer, node.name, ops.name, shape(args))
     if key not in _programs:
-        _programs[key] = tracer(node.step, ops, *args) if tracer is trace else tracer(checks, ops, *args)
+        if tracer is trace_step_first_false:
+            _programs[key] = tracer(node.step, checks, ops, *args)
+        else:
+            _programs[key] = tracer(node.step, ops, *args) if tracer is trace else tracer(checks, ops, *args)
     return _programs[key]
 
 
@@ -179,8 +182,9 @@ class TestEveryNodeUnderEveryBackend:
     @settings(max_examples=30)
     @given(data=st.data())
     def test_traced_program_equals_the_step(self, node, data):
-        """The straight-line program traced from the step (and from the checks of its properties) computes what
-        the step (and the checks) compute, to the bit, on exact numbers and on floats."""
+        """The straight-line program traced from the step (from the checks of its properties, and from both in one
+        program, as the simulator runs them) computes what the step and the checks compute, to the bit, on exact
+        numbers and on floats."""
         values = data.draw(example(node))
         properties = [_checked(p) for p in PROPERTIES.values() if p.node is node]
         for ops, chosen in ((EXACT, {r: as_exact(v) for r, v in values.items()}), (FLOAT, values)):
@@ -192,10 +196,13 @@ class TestEveryNodeUnderEveryBackend:
                 checks = [outcome(c, ops, p, s, i, out, nxt) for c in properties]
                 first = next((j for j, c in enumerate(checks) if c is not True), -1)
                 program = _program(trace_first_false, node, properties, ops, p, s, i, out, nxt)
+                combined = _program(trace_step_first_false, node, properties, ops, p, s, i)
                 if first < 0 or checks[first] is False:
                     assert program(p, s, i, out, nxt) == first, ops.name
+                    assert combined(p, s, i) == (nxt, out, first), ops.name
                 else:  # the first check that is not true raised: so does the program
                     assert outcome(program, p, s, i, out, nxt) == checks[first], ops.name
+                    assert outcome(combined, p, s, i) == checks[first], ops.name
 
     @settings(max_examples=40)  # each example steps up to 16 trains twice: 640 runs per node
     @given(data=st.data())
